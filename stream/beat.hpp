@@ -1,0 +1,40 @@
+// Stream beats on the ports of the blocks. One struct per port bundle; the
+// field names are the AXI4-Stream signal names the RTL ports will carry.
+#pragma once
+
+#include <cstdint>
+
+namespace ceilnav::stream {
+
+// s_axis_video_*: AXI4-Stream video from the camera (8-bit grey).
+// tuser = start of frame (on the first pixel), tlast = end of line.
+// The device keeps tready high: the camera cannot be stalled.
+struct VideoBeat {
+  uint8_t tdata = 0;
+  bool tvalid = false;
+  bool tuser = false;  // SOF
+  bool tlast = false;  // EOL
+};
+
+// Internal pixel stream after frame_check: geometry is known to be right for
+// every beat with valid = true. x, y are the pixel's column and row.
+struct PixelBeat {
+  bool valid = false;
+  uint8_t grey = 0;   // camera pixel
+  uint16_t x = 0;     // column, 0 .. width-1
+  uint16_t y = 0;     // row, 0 .. height-1
+  bool sof = false;   // x == 0 && y == 0
+  bool eol = false;   // x == width-1
+  bool eof = false;   // last pixel of the frame: eol && y == height-1
+  bool abort = false; // frame aborted by frame_check (no pixel: valid = false);
+                      // downstream discards the partial frame
+};
+
+// After thresh_lut: the pixel beat plus the LUT outputs, one cycle later.
+struct LutBeat {
+  PixelBeat pix;       // delayed copy of the pixel beat (grey = camera pixel)
+  uint8_t remap = 0;   // LUT[grey] bits 7:0
+  bool mask = false;   // LUT[grey] bit 8
+};
+
+}  // namespace ceilnav::stream
