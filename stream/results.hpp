@@ -1,0 +1,60 @@
+// Per-frame results of the blocks, as latched in the double-buffered result
+// registers at frame end, and the run stream bundle.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "stream/run_record.hpp"
+
+namespace ceilnav::stream {
+
+// Moment order in every array: m00, m10, m01, m20, m11, m02 (x = column, y = row).
+enum MomentIndex : int { kM00 = 0, kM10, kM01, kM20, kM11, kM02, kMomentCount };
+
+struct MomentResults {
+  std::array<uint64_t, kMomentCount> grey{};  // of the LUT remap value
+  std::array<uint64_t, kMomentCount> mask{};  // of the mask bit (0/1)
+  friend bool operator==(const MomentResults&, const MomentResults&) = default;
+};
+
+struct HistogramResults {
+  std::array<uint32_t, 256> bins{};
+  friend bool operator==(const HistogramResults&, const HistogramResults&) = default;
+};
+
+// m_axis_runs_*: one run per beat; tlast = 1 marks the frame trailer, which is
+// not a run: trailer.run.row = runs emitted for the frame (saturating at 0xFFFF),
+// trailer.run.x_start = RunTrailerFlags. The consumer drives tready.
+enum RunTrailerFlags : uint16_t {
+  kTrailerRowLimitHit = 1u << 0,  // some row had more than max_runs_per_row runs
+  kTrailerFifoOverflow = 1u << 1, // a run was lost because the FIFO was full
+  kTrailerFrameAborted = 1u << 2, // frame_check aborted the frame: runs are partial
+};
+
+struct RunBeat {
+  bool tvalid = false;
+  bool tlast = false;
+  RunRecord tdata{};
+  friend bool operator==(const RunBeat&, const RunBeat&) = default;
+};
+
+struct RunStats {
+  uint32_t runs_emitted = 0;        // runs pushed into the FIFO this frame
+  uint32_t runs_dropped_row_limit = 0;
+  uint32_t runs_dropped_overflow = 0;
+  uint32_t fifo_high_water = 0;     // max FIFO occupancy seen this frame (entries)
+  friend bool operator==(const RunStats&, const RunStats&) = default;
+};
+
+struct FrameErrorCounters {  // cumulative since reset, saturating
+  uint32_t early_eol = 0;    // tlast before x == width-1
+  uint32_t late_eol = 0;     // no tlast at x == width-1
+  uint32_t early_sof = 0;    // tuser inside a frame (frame cut short)
+  uint32_t missing_sof = 0;  // pixel outside a frame without tuser
+  uint32_t frames_ok = 0;
+  uint32_t frames_aborted = 0;
+  friend bool operator==(const FrameErrorCounters&, const FrameErrorCounters&) = default;
+};
+
+}  // namespace ceilnav::stream
