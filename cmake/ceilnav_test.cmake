@@ -8,7 +8,8 @@ function(ceilnav_add_gtest name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main ceilnav_warnings)
   target_compile_definitions(${name} PRIVATE CEILNAV_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}")
+  gtest_discover_tests(${name} TEST_PREFIX "${name}." DISCOVERY_TIMEOUT 120
+                       PROPERTIES LABELS "${ARG_LABELS}")
 endfunction()
 
 # Every tests/*_test.cpp in the calling directory becomes one gtest executable

@@ -37,8 +37,8 @@ constexpr i128 requantise(i128 raw, int src_frac, const Format& dst) {
   }
   // |raw * 2^gain| >= 2^126 lies beyond every 64-bit word: saturate without
   // computing it.
-  const i128 saturated = raw < 0 ? min_raw(dst.width, dst.is_signed)
-                                 : max_raw(dst.width, dst.is_signed);
+  const i128 saturated =
+      raw < 0 ? min_raw(dst.width, dst.is_signed) : max_raw(dst.width, dst.is_signed);
   if (gain >= 64) return saturated;
   const i128 limit = pow2_int(126 - gain);
   if (raw >= limit || raw < -limit) return saturated;

@@ -23,6 +23,8 @@ constexpr double pow2(int exponent) {
 }
 
 // 2^exponent as an integer, 0 <= exponent <= 126.
-constexpr i128 pow2_int(int exponent) { return static_cast<i128>(1) << exponent; }
+constexpr i128 pow2_int(int exponent) {
+  return static_cast<i128>(1) << exponent;
+}
 
 }  // namespace ceilnav::fp::detail
