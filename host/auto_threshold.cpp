@@ -2,20 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 namespace ceilnav::host {
 
 namespace {
 
-// Smallest grey g with cumulative count(<= g) >= q * total.
-int percentile(const stream::HistogramResults& hist, uint64_t total, double q) {
+// Smallest g with cumulative count(<= g) >= q * total.
+template <size_t N>
+int quantile(const std::array<uint64_t, N>& h, uint64_t total, double q) {
   const double target = q * static_cast<double>(total);
-  uint64_t cum = 0;
-  for (int g = 0; g < 256; ++g) {
-    cum += hist.bins[static_cast<size_t>(g)];
-    if (static_cast<double>(cum) >= target) return g;
+  uint64_t acc = 0;
+  for (size_t g = 0; g < N; ++g) {
+    acc += h[g];
+    if (static_cast<double>(acc) >= target) return static_cast<int>(g);
   }
-  return 255;
+  return static_cast<int>(N) - 1;
 }
 
 }  // namespace
@@ -23,33 +25,29 @@ int percentile(const stream::HistogramResults& hist, uint64_t total, double q) {
 ThresholdSettings choose_threshold(const stream::HistogramResults& hist,
                                    const ThresholdOptions& opt) {
   ThresholdSettings s;
+  std::array<uint64_t, 256> h{};
   uint64_t total = 0;
-  for (uint32_t b : hist.bins) total += b;
+  for (size_t g = 0; g < 256; ++g) {
+    h[g] = hist.bins[g];
+    total += h[g];
+  }
   if (total == 0) return s;
 
-  const int median = percentile(hist, total, 0.5);
-  const int lower = percentile(hist, total, 0.158655);  // one sigma below the mean
-  s.background_grey = median;
-  s.noise_sigma_grey = std::max(0.5, static_cast<double>(median - lower));
+  const int bg = quantile(h, total, 0.5);
+  std::array<uint64_t, 256> dev{};  // histogram of |grey - background|
+  for (int g = 0; g < 256; ++g) dev[static_cast<size_t>(std::abs(g - bg))] += h[static_cast<size_t>(g)];
+  const double sigma = std::max(0.5, 1.4826 * quantile(dev, total, 0.5));
+  const int peak = quantile(h, total, opt.peak_quantile);
 
-  uint64_t above = 0;
-  int peak = 0;
-  for (int g = 255; g >= 0; --g) {
-    above += hist.bins[static_cast<size_t>(g)];
-    if (above >= opt.peak_min_pixels) {
-      peak = g;
-      break;
-    }
-  }
+  s.background_grey = bg;
+  s.noise_sigma_grey = sigma;
   s.peak_grey = static_cast<uint8_t>(peak);
-
-  const double t = std::max({static_cast<double>(median) + opt.noise_k * s.noise_sigma_grey,
-                             static_cast<double>(median) + opt.min_margin_grey,
-                             static_cast<double>(median) + opt.peak_fraction * (peak - median)});
-  const double t_ceil = std::ceil(t);
-  s.usable = t_ceil <= static_cast<double>(peak) && t_ceil <= 255.0;
-  s.threshold = static_cast<uint8_t>(std::clamp(t_ceil, 1.0, 255.0));
-  s.background_level = static_cast<uint8_t>(std::clamp(median, 0, 255));
+  const double t =
+      std::ceil(bg + std::max(opt.noise_k * sigma, opt.peak_fraction * (peak - bg)));
+  s.usable = t <= static_cast<double>(peak) && t <= 255.0;
+  s.threshold = static_cast<uint8_t>(std::clamp(t, 1.0, 255.0));
+  s.background_level =
+      static_cast<uint8_t>(std::clamp(std::lround(bg + opt.weight_noise_k * sigma), 0L, 255L));
   return s;
 }
 

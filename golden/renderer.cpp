@@ -1,0 +1,448 @@
+#include "golden/renderer.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <vector>
+
+namespace ceilnav::golden {
+namespace {
+
+// ---------------------------------------------------------------------------
+// Inverse distortion.
+
+// OpenCV's distortion D(x, y) and its Jacobian dD/d(x, y).
+void distort_with_jacobian(const host::CameraConfig& camera, double x, double y, double& xd,
+                           double& yd, Eigen::Matrix2d& jac) {
+  const auto& k = camera.distortion_coefficients;
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (k[0] + r2 * (k[1] + r2 * k[4]));
+  const double dradial = k[0] + r2 * (2.0 * k[1] + 3.0 * r2 * k[4]);  // d radial / d r2
+  xd = x * radial + 2.0 * k[2] * x * y + k[3] * (r2 + 2.0 * x * x);
+  yd = y * radial + k[2] * (r2 + 2.0 * y * y) + 2.0 * k[3] * x * y;
+  jac(0, 0) = radial + 2.0 * x * x * dradial + 2.0 * k[2] * y + 6.0 * k[3] * x;
+  jac(0, 1) = 2.0 * x * y * dradial + 2.0 * k[2] * x + 2.0 * k[3] * y;
+  jac(1, 0) = 2.0 * x * y * dradial + 2.0 * k[2] * x + 2.0 * k[3] * y;
+  jac(1, 1) = radial + 2.0 * y * y * dradial + 6.0 * k[2] * y + 2.0 * k[3] * x;
+}
+
+// Solves D(x, y) = (xd, yd) by Newton from (x, y). On success (x, y) is the
+// undistorted point and jac = dD/d(x, y) there (det > 0: no fold-over).
+bool undistort_newton(const host::CameraConfig& camera, double xd, double yd, double& x, double& y,
+                      Eigen::Matrix2d& jac) {
+  const double scale = std::max(1.0, std::abs(xd) + std::abs(yd));
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    double ex = 0.0, ey = 0.0;
+    distort_with_jacobian(camera, x, y, ex, ey, jac);
+    ex -= xd;
+    ey -= yd;
+    const double det = jac.determinant();
+    if (!(det > 0.0) || !std::isfinite(det)) return false;
+    if (std::abs(ex) + std::abs(ey) <= 4e-16 * scale) return true;
+    x -= (jac(1, 1) * ex - jac(0, 1) * ey) / det;
+    y -= (-jac(1, 0) * ex + jac(0, 0) * ey) / det;
+  }
+  double ex = 0.0, ey = 0.0;
+  distort_with_jacobian(camera, x, y, ex, ey, jac);
+  return std::abs(ex - xd) + std::abs(ey - yd) <= 1e-13 * scale && jac.determinant() > 0.0;
+}
+
+// ---------------------------------------------------------------------------
+// Per-camera table of pixel-centre rays: normalised (x, y) and the Jacobian
+// d(x, y)/d(u, v), so that a sub-sample at offset (a, b) px from the centre has
+// the ray (x, y) + J (a, b) (the local affine approximation).
+
+struct PixelRay {
+  double x, y;
+  double j00, j01, j10, j11;
+  bool valid;
+};
+
+struct RayTable {
+  std::vector<PixelRay> rays;  // row-major
+  double affine_error_px = 0.0;
+};
+
+struct CameraKey {
+  int width, height;
+  std::array<double, 9> matrix;
+  std::array<double, 5> distortion;
+  bool operator==(const CameraKey&) const = default;
+};
+
+std::shared_ptr<const RayTable> build_ray_table(const host::CameraConfig& camera, bool distorted) {
+  auto table = std::make_shared<RayTable>();
+  const int w = camera.image_width, h = camera.image_height;
+  const double fx = camera.fx(), fy = camera.fy(), cx = camera.cx(), cy = camera.cy();
+  table->rays.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      PixelRay& ray = table->rays[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(i)];
+      const double xd = (i - cx) / fx, yd = (j - cy) / fy;
+      if (!distorted) {
+        ray = {xd, yd, 1.0 / fx, 0.0, 0.0, 1.0 / fy, true};
+        continue;
+      }
+      double x = xd, y = yd;
+      Eigen::Matrix2d jac;
+      ray.valid = undistort_newton(camera, xd, yd, x, y, jac);
+      // d(x,y)/d(u,v) = (dD/d(x,y))^-1 diag(1/fx, 1/fy)
+      const Eigen::Matrix2d inv = jac.inverse();
+      ray.x = x;
+      ray.y = y;
+      ray.j00 = inv(0, 0) / fx;
+      ray.j01 = inv(0, 1) / fy;
+      ray.j10 = inv(1, 0) / fx;
+      ray.j11 = inv(1, 1) / fy;
+    }
+  }
+  if (!distorted) return table;
+  // Exact rays through the pixel corners, to measure the affine error where the
+  // quadratic remainder is largest.
+  const std::size_t cw = static_cast<std::size_t>(w) + 1;
+  std::vector<Eigen::Vector2d> corners(cw * (static_cast<std::size_t>(h) + 1));
+  std::vector<char> corner_valid(corners.size());
+  for (int j = 0; j <= h; ++j) {
+    for (int i = 0; i <= w; ++i) {
+      const double xd = (i - 0.5 - cx) / fx, yd = (j - 0.5 - cy) / fy;
+      double x = xd, y = yd;
+      Eigen::Matrix2d jac;
+      const std::size_t index = static_cast<std::size_t>(j) * cw + static_cast<std::size_t>(i);
+      corner_valid[index] = undistort_newton(camera, xd, yd, x, y, jac) ? 1 : 0;
+      corners[index] = {x, y};
+    }
+  }
+  double worst = 0.0;
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      const PixelRay& ray = table->rays[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) +
+                                        static_cast<std::size_t>(i)];
+      if (!ray.valid) continue;
+      for (int corner = 0; corner < 4; ++corner) {
+        const int di = corner & 1, dj = corner >> 1;
+        const std::size_t index =
+            static_cast<std::size_t>(j + dj) * cw + static_cast<std::size_t>(i + di);
+        if (!corner_valid[index]) continue;
+        const double a = di - 0.5, b = dj - 0.5;
+        const double ex = ray.x + ray.j00 * a + ray.j01 * b - corners[index].x();
+        const double ey = ray.y + ray.j10 * a + ray.j11 * b - corners[index].y();
+        worst = std::max(worst, std::hypot(fx * ex, fy * ey));
+      }
+    }
+  }
+  table->affine_error_px = worst;
+  return table;
+}
+
+// A small cache keyed by the camera: building a distorted table costs two
+// Newton solves per pixel, rendering a frame costs much less.
+std::shared_ptr<const RayTable> ray_table(const host::CameraConfig& camera, bool distorted) {
+  static std::mutex mutex;
+  static std::vector<std::pair<CameraKey, std::shared_ptr<const RayTable>>> cache;
+  CameraKey key{camera.image_width, camera.image_height, camera.camera_matrix,
+                distorted ? camera.distortion_coefficients : std::array<double, 5>{}};
+  const std::lock_guard<std::mutex> lock(mutex);
+  for (const auto& [cached_key, table] : cache) {
+    if (cached_key == key) return table;
+  }
+  auto table = build_ray_table(camera, distorted);
+  constexpr std::size_t kCacheEntries = 4;
+  if (cache.size() >= kCacheEntries) cache.erase(cache.begin());
+  cache.emplace_back(key, table);
+  return table;
+}
+
+void check_camera(const host::CameraConfig& camera) {
+  if (camera.image_width <= 0 || camera.image_height <= 0) {
+    throw std::invalid_argument("renderer: image size must be positive");
+  }
+  if (!(camera.fx() > 0.0) || !(camera.fy() > 0.0)) {
+    throw std::invalid_argument("renderer: fx and fy must be positive");
+  }
+  if (!(camera.ceiling_above_camera_m() > 0.0)) {
+    throw std::invalid_argument("renderer: the ceiling must be above the camera");
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Sampling.
+
+// splitmix64's finaliser: a counter-based generator, so every pixel's jitter
+// and noise depend only on (seed, pixel index), not on traversal order.
+uint64_t mix64(uint64_t z) {
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+double unit_interval(uint64_t bits) {  // [0, 1)
+  return static_cast<double>(bits >> 11) * 0x1.0p-53;
+}
+
+constexpr uint64_t kJitterSeed = 0x6a09e667f3bcc909ULL;  // fixed: frames are reproducible
+
+// A tape in its own frame: s along the centre line from (x0, y0), t across it.
+struct TapeFrame {
+  double ax, ay, ex, ey;
+  double length, half_width, reflectance;
+  double min_x, max_x, min_y, max_y;  // bounding box
+  bool contains(double px, double py) const {
+    const double dx = px - ax, dy = py - ay;
+    const double s = dx * ex + dy * ey;
+    const double t = dy * ex - dx * ey;
+    return s >= 0.0 && s <= length && std::abs(t) <= half_width;
+  }
+};
+
+std::vector<TapeFrame> tape_frames(const CeilingScene& scene) {
+  std::vector<TapeFrame> frames;
+  for (const TapeSegment& tape : scene.tapes) {
+    const double dx = tape.x1_m - tape.x0_m, dy = tape.y1_m - tape.y0_m;
+    const double length = std::hypot(dx, dy);
+    if (!(length > 0.0) || !(tape.width_m > 0.0) || !(tape.reflectance >= 0.0)) {
+      throw std::invalid_argument("renderer: a tape needs length > 0, width > 0, reflectance >= 0");
+    }
+    const double hw = 0.5 * tape.width_m;
+    // The bounding box grows by the half width in both axes (a safe cover).
+    frames.push_back({tape.x0_m, tape.y0_m, dx / length, dy / length, length, hw, tape.reflectance,
+                      std::min(tape.x0_m, tape.x1_m) - hw, std::max(tape.x0_m, tape.x1_m) + hw,
+                      std::min(tape.y0_m, tape.y1_m) - hw, std::max(tape.y0_m, tape.y1_m) + hw});
+  }
+  return frames;
+}
+
+// Ray (x, y, 1) in camera coordinates -> point on the ceiling and 1/range^2.
+struct CeilingGeometry {
+  double cx_m, cy_m, height_m;                // camera X, Y; ceiling above the camera
+  double rx, ry, rz, dx, dy, dz, fx, fy, fz;  // rows of R (world vectors)
+
+  // false when the ray does not rise (never meets the ceiling in front).
+  bool hit(double x, double y, double& px, double& py, double& inv_range2) const {
+    const double up = x * rz + y * dz + fz;
+    if (!(up > 0.0)) return false;
+    const double t = height_m / up;
+    px = cx_m + t * (x * rx + y * dx + fx);
+    py = cy_m + t * (x * ry + y * dy + fy);
+    inv_range2 = 1.0 / (t * t * (1.0 + x * x + y * y));
+    return true;
+  }
+};
+
+cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& scene,
+                        const CameraPose& pose, const RenderParams& params, RenderStats& stats) {
+  const int w = camera.image_width, h = camera.image_height;
+  const bool distorted = params.apply_distortion && camera.has_distortion();
+  const std::shared_ptr<const RayTable> table = ray_table(camera, distorted);
+  const std::vector<TapeFrame> tapes = tape_frames(scene);
+  const Eigen::Matrix3d r = world_to_camera_rotation(pose.yaw_rad, pitch_rad(camera));
+  const CeilingGeometry geo{pose.x_m, pose.y_m, camera.ceiling_above_camera_m(),
+                            r(0, 0),  r(0, 1),  r(0, 2),
+                            r(1, 0),  r(1, 1),  r(1, 2),
+                            r(2, 0),  r(2, 1),  r(2, 2)};
+  const int n = params.supersample;
+  const double inv_n = 1.0 / n;
+
+  cv::Mat radiance(h, w, CV_64FC1, cv::Scalar(0.0));
+  std::vector<int> candidates;
+  candidates.reserve(tapes.size());
+  std::vector<int> all_tapes(tapes.size());
+  for (std::size_t t = 0; t < tapes.size(); ++t) all_tapes[t] = static_cast<int>(t);
+
+  for (int j = 0; j < h; ++j) {
+    double* out = radiance.ptr<double>(j);
+    for (int i = 0; i < w; ++i) {
+      const std::size_t k =
+          static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i);
+      const PixelRay& ray = table->rays[k];
+      if (!ray.valid || tapes.empty()) {
+        ++stats.background_pixels;
+        continue;
+      }
+      // Classify the footprint: the pixel square maps to a parallelogram of
+      // rays (affine approximation) and, when every corner ray rises, to a
+      // convex quadrilateral on the ceiling (a projective image of a convex set
+      // that does not cross the horizon), so its corners decide inside/outside
+      // of each (convex) tape exactly.
+      double inside_reflectance = 0.0;
+      const std::vector<int>* mixed = &candidates;
+      candidates.clear();
+      if (params.adaptive_sampling) {
+        std::array<double, 4> qx{}, qy{}, q_inv_r2{};
+        int rising = 0;
+        for (std::size_t c = 0; c < 4; ++c) {
+          const double a = static_cast<double>(c & 1U) - 0.5;
+          const double b = static_cast<double>(c >> 1U) - 0.5;
+          if (geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, qx[c],
+                      qy[c], q_inv_r2[c])) {
+            ++rising;
+          }
+        }
+        if (rising == 0) {  // the rise is linear in the ray: no point of the footprint rises
+          ++stats.background_pixels;
+          continue;
+        }
+        if (rising < 4) {
+          mixed = &all_tapes;  // the footprint straddles the horizon: sample it all
+        } else {
+          const double min_x = std::min({qx[0], qx[1], qx[2], qx[3]});
+          const double max_x = std::max({qx[0], qx[1], qx[2], qx[3]});
+          const double min_y = std::min({qy[0], qy[1], qy[2], qy[3]});
+          const double max_y = std::max({qy[0], qy[1], qy[2], qy[3]});
+          for (std::size_t t = 0; t < tapes.size(); ++t) {
+            const TapeFrame& tape = tapes[t];
+            if (max_x < tape.min_x || min_x > tape.max_x || max_y < tape.min_y ||
+                min_y > tape.max_y) {
+              continue;
+            }
+            int s_below = 0, s_above = 0, t_below = 0, t_above = 0;
+            for (std::size_t c = 0; c < 4; ++c) {
+              const double dx = qx[c] - tape.ax, dy = qy[c] - tape.ay;
+              const double s = dx * tape.ex + dy * tape.ey;
+              const double tt = dy * tape.ex - dx * tape.ey;
+              s_below += s < 0.0;
+              s_above += s > tape.length;
+              t_below += tt < -tape.half_width;
+              t_above += tt > tape.half_width;
+            }
+            if (s_below == 4 || s_above == 4 || t_below == 4 || t_above == 4) continue;
+            if (s_below + s_above + t_below + t_above == 0) {
+              inside_reflectance = std::max(inside_reflectance, tape.reflectance);
+            } else {
+              candidates.push_back(static_cast<int>(t));
+            }
+          }
+          // A partly covering tape that is not brighter than one covering the
+          // whole footprint changes nothing.
+          std::erase_if(candidates, [&](int t) {
+            return tapes[static_cast<std::size_t>(t)].reflectance <= inside_reflectance;
+          });
+          if (candidates.empty()) {
+            if (inside_reflectance <= 0.0) {
+              ++stats.background_pixels;
+              continue;
+            }
+            // Smooth 1/r^2 over the footprint: 2 x 2 midpoint rule, relative
+            // error ~ (footprint / range)^2 / 96, far below 1e-4.
+            double sum = 0.0;
+            for (int c = 0; c < 4; ++c) {
+              const double a = 0.5 * ((c & 1) - 0.5), b = 0.5 * ((c >> 1) - 0.5);
+              double px = 0.0, py = 0.0, inv_r2 = 0.0;
+              geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, px, py,
+                      inv_r2);
+              sum += inv_r2;
+            }
+            out[i] = params.tape_gain * inside_reflectance * 0.25 * sum;
+            ++stats.interior_pixels;
+            stats.samples += 4;
+            continue;
+          }
+        }
+      } else {
+        mixed = &all_tapes;
+      }
+      // Edge pixel: jittered stratified samples, one per cell of an N x N grid,
+      // the jitter a fixed function of the pixel index.
+      uint64_t state = mix64(kJitterSeed ^ (static_cast<uint64_t>(k) * 0xd1b54a32d192ed03ULL));
+      double sum = 0.0;
+      for (int sy = 0; sy < n; ++sy) {
+        for (int sx = 0; sx < n; ++sx) {
+          state = mix64(state);
+          const double a = (sx + unit_interval(state)) * inv_n - 0.5;
+          state = mix64(state);
+          const double b = (sy + unit_interval(state)) * inv_n - 0.5;
+          double px = 0.0, py = 0.0, inv_r2 = 0.0;
+          if (!geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, px, py,
+                       inv_r2)) {
+            continue;
+          }
+          double reflectance = inside_reflectance;
+          for (int t : *mixed) {
+            const TapeFrame& tape = tapes[static_cast<std::size_t>(t)];
+            if (tape.reflectance > reflectance && tape.contains(px, py)) {
+              reflectance = tape.reflectance;
+            }
+          }
+          sum += reflectance * inv_r2;
+        }
+      }
+      out[i] = params.tape_gain * sum * inv_n * inv_n;
+      ++stats.edge_pixels;
+      stats.samples += static_cast<int64_t>(n) * n;
+    }
+  }
+  return radiance;
+}
+
+}  // namespace
+
+std::optional<Eigen::Vector2d> undistort_pixel(const host::CameraConfig& camera,
+                                               const Eigen::Vector2d& pixel) {
+  const double xd = (pixel.x() - camera.cx()) / camera.fx();
+  const double yd = (pixel.y() - camera.cy()) / camera.fy();
+  double x = xd, y = yd;
+  Eigen::Matrix2d jac;
+  if (!undistort_newton(camera, xd, yd, x, y, jac)) return std::nullopt;
+  return Eigen::Vector2d(x, y);
+}
+
+double affine_undistortion_error_px(const host::CameraConfig& camera) {
+  check_camera(camera);
+  return ray_table(camera, camera.has_distortion())->affine_error_px;
+}
+
+cv::Mat render_float(const host::CameraConfig& camera, const CeilingScene& scene,
+                     const CameraPose& pose, const RenderParams& params, RenderStats* stats) {
+  check_camera(camera);
+  if (params.supersample < 1 || params.supersample > 64) {
+    throw std::invalid_argument("render: supersample must be in [1, 64]");
+  }
+  if (!(params.blur_sigma_px >= 0.0) || !(params.noise_sigma_grey >= 0.0) ||
+      !std::isfinite(params.background_grey) || !std::isfinite(params.tape_gain)) {
+    throw std::invalid_argument("render: blur and noise sigmas must be >= 0, grey levels finite");
+  }
+  RenderStats local_stats;
+  cv::Mat image = render_radiance(camera, scene, pose, params, local_stats);
+  if (stats != nullptr) *stats = local_stats;
+  image += cv::Scalar(params.background_grey);
+  if (params.blur_sigma_px > 0.0) {
+    // Kernel to +-5 sigma: the truncated tail weighs < 1e-6.
+    const int half = static_cast<int>(std::ceil(5.0 * params.blur_sigma_px));
+    cv::GaussianBlur(image, image, cv::Size(2 * half + 1, 2 * half + 1), params.blur_sigma_px,
+                     params.blur_sigma_px, cv::BORDER_REFLECT_101);
+  }
+  if (params.noise_sigma_grey > 0.0) {
+    const uint64_t seed = mix64(params.noise_seed ^ 0xa54ff53a5f1d36f1ULL);
+    for (int j = 0; j < image.rows; ++j) {
+      double* row = image.ptr<double>(j);
+      for (int i = 0; i < image.cols; ++i) {
+        const uint64_t k =
+            static_cast<uint64_t>(j) * static_cast<uint64_t>(image.cols) + static_cast<uint64_t>(i);
+        // Box-Muller on two counter-based uniforms; u1 in (0, 1].
+        const double u1 = 1.0 - unit_interval(mix64(seed ^ (2 * k)));
+        const double u2 = unit_interval(mix64(seed ^ (2 * k + 1)));
+        row[i] += params.noise_sigma_grey * std::sqrt(-2.0 * std::log(u1)) *
+                  std::cos(2.0 * std::numbers::pi * u2);
+      }
+    }
+  }
+  return image;
+}
+
+cv::Mat render_frame(const host::CameraConfig& camera, const CeilingScene& scene,
+                     const CameraPose& pose, const RenderParams& params) {
+  cv::Mat grey;
+  render_float(camera, scene, pose, params).convertTo(grey, CV_8UC1);  // rounds and saturates
+  return grey;
+}
+
+}  // namespace ceilnav::golden

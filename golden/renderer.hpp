@@ -1,0 +1,63 @@
+// Scene renderer: the frame a camera with a known pose sees of retroreflective
+// tape on the ceiling under an on-axis flash. Used by every accuracy test and by
+// `ceilnav demo`. Geometry, radiometry, sampling and error bounds are derived in
+// docs/renderer.md.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <optional>
+
+#include "golden/scene.hpp"
+#include "host/camera_config.hpp"
+
+namespace ceilnav::golden {
+
+struct RenderParams {
+  int supersample = 8;         // N: N x N jittered-stratified samples over a pixel near a tape edge
+  double blur_sigma_px = 0.5;  // Gaussian blur on the float image; 0 = none
+  double noise_sigma_grey = 2.0;
+  uint64_t noise_seed = 1;
+  double background_grey = 16.0;
+  // grey = background + tape_gain * reflectance / r^2, r = camera-to-point range
+  // in m: retroreflective return of an on-axis flash.
+  double tape_gain = 800.0;
+  bool apply_distortion = true;
+  // false: every pixel gets all N x N samples (reference mode for tests; slow).
+  bool adaptive_sampling = true;
+};
+
+// How the adaptive sampler treated the pixels of one frame.
+struct RenderStats {
+  int64_t background_pixels = 0;  // footprint misses every tape (or the ceiling): no samples
+  int64_t interior_pixels = 0;    // footprint inside a tape: 2 x 2 midpoint samples
+  int64_t edge_pixels = 0;        // footprint crosses an edge: N x N jittered samples
+  int64_t samples = 0;            // ray-ceiling evaluations in total
+};
+
+// Normalised undistorted coordinates (x, y) = (X/Z, Y/Z) of the ray through a
+// distorted pixel position: the inverse of OpenCV's distortion model, by Newton
+// iteration to ~1e-15. nullopt where the model is not invertible (fold-over).
+std::optional<Eigen::Vector2d> undistort_pixel(const host::CameraConfig& camera,
+                                               const Eigen::Vector2d& pixel);
+
+// Largest error, in (undistorted) pixels, of the renderer's per-pixel affine
+// approximation of the undistortion over the pixel footprint, measured at every
+// pixel corner of the image (where the quadratic remainder is largest). 0 for a
+// camera without distortion.
+double affine_undistortion_error_px(const host::CameraConfig& camera);
+
+// The frame before quantisation: CV_64FC1, image_height x image_width;
+// background + tape radiance, blurred, plus noise. Throws std::invalid_argument
+// on bad parameters or when the ceiling is not above the camera.
+cv::Mat render_float(const host::CameraConfig& camera, const CeilingScene& scene,
+                     const CameraPose& pose, const RenderParams& params,
+                     RenderStats* stats = nullptr);
+
+// The camera's 8-bit frame: render_float rounded to nearest and saturated,
+// CV_8UC1, image_height x image_width.
+cv::Mat render_frame(const host::CameraConfig& camera, const CeilingScene& scene,
+                     const CameraPose& pose, const RenderParams& params);
+
+}  // namespace ceilnav::golden

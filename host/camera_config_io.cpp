@@ -1,0 +1,166 @@
+#include "host/camera_config_io.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <opencv2/core.hpp>
+
+namespace ceilnav::host {
+namespace {
+
+constexpr int kMaxImageSide = 2048;
+
+[[noreturn]] void fail(const std::string& source, const std::string& key, const std::string& what) {
+  std::ostringstream msg;
+  msg << "camera config '" << source << "'";
+  if (!key.empty()) msg << ": key '" << key << "'";
+  msg << ": " << what;
+  throw ConfigError(msg.str());
+}
+
+cv::FileNode require(const cv::FileStorage& fs, const std::string& source, const std::string& key) {
+  cv::FileNode node = fs[key];
+  if (node.empty() || node.isNone()) fail(source, key, "missing");
+  return node;
+}
+
+int read_int(const cv::FileStorage& fs, const std::string& source, const std::string& key) {
+  const cv::FileNode node = require(fs, source, key);
+  if (!node.isInt()) fail(source, key, "must be an integer");
+  return static_cast<int>(node);
+}
+
+double read_real(const cv::FileStorage& fs, const std::string& source, const std::string& key) {
+  const cv::FileNode node = require(fs, source, key);
+  if (!node.isInt() && !node.isReal()) fail(source, key, "must be a number");
+  const double value = static_cast<double>(node);
+  if (!std::isfinite(value)) fail(source, key, "must be finite");
+  return value;
+}
+
+cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& source, const std::string& key) {
+  const cv::FileNode node = require(fs, source, key);
+  if (!node.isMap() || node["rows"].empty() || node["cols"].empty() || node["data"].empty()) {
+    fail(source, key, "must be an opencv-matrix (rows, cols, dt, data)");
+  }
+  cv::Mat m;
+  try {
+    node >> m;
+  } catch (const cv::Exception& e) {
+    fail(source, key, std::string("unreadable matrix: ") + e.what());
+  }
+  if (m.empty() || m.channels() != 1) fail(source, key, "must be a non-empty 1-channel matrix");
+  cv::Mat m64;
+  m.convertTo(m64, CV_64F);
+  for (int r = 0; r < m64.rows; ++r) {
+    for (int c = 0; c < m64.cols; ++c) {
+      if (!std::isfinite(m64.at<double>(r, c))) fail(source, key, "has a non-finite element");
+    }
+  }
+  return m64;
+}
+
+}  // namespace
+
+void validate_camera_config(const CameraConfig& cfg, const std::string& source) {
+  if (cfg.image_width < 1 || cfg.image_width > kMaxImageSide) {
+    fail(source, "image_width", "must be in 1..2048, got " + std::to_string(cfg.image_width));
+  }
+  if (cfg.image_height < 1 || cfg.image_height > kMaxImageSide) {
+    fail(source, "image_height", "must be in 1..2048, got " + std::to_string(cfg.image_height));
+  }
+  for (double v : cfg.camera_matrix) {
+    if (!std::isfinite(v)) fail(source, "camera_matrix", "has a non-finite element");
+  }
+  const auto& k = cfg.camera_matrix;
+  if (k[1] != 0.0 || k[3] != 0.0 || k[6] != 0.0 || k[7] != 0.0 || k[8] != 1.0) {
+    fail(source, "camera_matrix", "must be [fx 0 cx; 0 fy cy; 0 0 1] (zero skew)");
+  }
+  if (!(cfg.fx() > 0.0) || !(cfg.fy() > 0.0))
+    fail(source, "camera_matrix", "fx and fy must be > 0");
+  // The principal point must lie on the sensor: [-0.5, W - 0.5] x [-0.5, H - 0.5].
+  if (cfg.cx() < -0.5 || cfg.cx() > cfg.image_width - 0.5 || cfg.cy() < -0.5 ||
+      cfg.cy() > cfg.image_height - 0.5) {
+    fail(source, "camera_matrix", "principal point (cx, cy) outside the image");
+  }
+  for (double v : cfg.distortion_coefficients) {
+    if (!std::isfinite(v)) fail(source, "distortion_coefficients", "has a non-finite element");
+  }
+  if (!std::isfinite(cfg.camera_pitch_deg) || !(cfg.camera_pitch_deg > 0.0) ||
+      cfg.camera_pitch_deg > 90.0) {
+    fail(source, "camera_pitch_deg", "must be in (0, 90]");
+  }
+  if (!std::isfinite(cfg.camera_height_m)) fail(source, "camera_height_m", "must be finite");
+  if (!std::isfinite(cfg.ceiling_height_m) || !(cfg.ceiling_height_m > cfg.camera_height_m)) {
+    fail(source, "ceiling_height_m", "must be greater than camera_height_m");
+  }
+  if (!std::isfinite(cfg.tape_width_m) || !(cfg.tape_width_m > 0.0)) {
+    fail(source, "tape_width_m", "must be > 0");
+  }
+}
+
+CameraConfig load_camera_config(const std::string& path) {
+  {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) fail(path, "", "no such file");
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) fail(path, "", "cannot be opened for reading");
+    if (probe.peek() == std::ifstream::traits_type::eof()) fail(path, "", "file is empty");
+  }
+  cv::FileStorage fs;
+  try {
+    fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_AUTO);
+  } catch (const cv::Exception& e) {
+    fail(path, "", std::string("not a FileStorage YAML file: ") + e.what());
+  }
+  if (!fs.isOpened()) fail(path, "", "cannot be parsed as FileStorage YAML");
+  if (!fs.root().isMap()) fail(path, "", "top level is not a map of keys");
+
+  CameraConfig cfg;
+  cfg.image_width = read_int(fs, path, "image_width");
+  cfg.image_height = read_int(fs, path, "image_height");
+
+  const cv::Mat k = read_matrix(fs, path, "camera_matrix");
+  if (k.rows != 3 || k.cols != 3) fail(path, "camera_matrix", "must be 3x3");
+  for (int i = 0; i < 9; ++i)
+    cfg.camera_matrix[static_cast<size_t>(i)] = k.at<double>(i / 3, i % 3);
+
+  const cv::Mat d = read_matrix(fs, path, "distortion_coefficients");
+  const int n = static_cast<int>(d.total());
+  if ((d.rows != 1 && d.cols != 1) || (n != 4 && n != 5)) {
+    fail(path, "distortion_coefficients", "must be 1x5, 5x1, 1x4 or 4x1 (k1 k2 p1 p2 [k3])");
+  }
+  cfg.distortion_coefficients = {};
+  for (int i = 0; i < n; ++i) {
+    cfg.distortion_coefficients[static_cast<size_t>(i)] =
+        d.at<double>(d.rows == 1 ? 0 : i, d.rows == 1 ? i : 0);
+  }
+
+  cfg.camera_pitch_deg = read_real(fs, path, "camera_pitch_deg");
+  cfg.camera_height_m = read_real(fs, path, "camera_height_m");
+  cfg.ceiling_height_m = read_real(fs, path, "ceiling_height_m");
+  cfg.tape_width_m = read_real(fs, path, "tape_width_m");
+  validate_camera_config(cfg, path);
+  return cfg;
+}
+
+void save_camera_config(const CameraConfig& cfg, const std::string& path) {
+  validate_camera_config(cfg, path);
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
+    if (!fs.isOpened()) fail(path, "", "cannot be opened for writing");
+    const cv::Mat k(3, 3, CV_64F, const_cast<double*>(cfg.camera_matrix.data()));
+    const cv::Mat d(1, 5, CV_64F, const_cast<double*>(cfg.distortion_coefficients.data()));
+    fs << "image_width" << cfg.image_width << "image_height" << cfg.image_height;
+    fs << "camera_matrix" << k << "distortion_coefficients" << d;
+    fs << "camera_pitch_deg" << cfg.camera_pitch_deg << "camera_height_m" << cfg.camera_height_m;
+    fs << "ceiling_height_m" << cfg.ceiling_height_m << "tape_width_m" << cfg.tape_width_m;
+    fs.release();
+  } catch (const cv::Exception& e) {
+    fail(path, "", std::string("cannot be written: ") + e.what());
+  }
+}
+
+}  // namespace ceilnav::host

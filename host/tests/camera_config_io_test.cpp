@@ -1,0 +1,244 @@
+#include "host/camera_config_io.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+namespace ceilnav::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ConfigIoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("ceilnav_cfg_io_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::string p = path(name);
+    std::ofstream(p) << text;
+    return p;
+  }
+  fs::path dir_;
+};
+
+// Key -> YAML value text; a complete valid file by default.
+std::map<std::string, std::string> valid_keys() {
+  return {
+      {"image_width", "640"},
+      {"image_height", "480"},
+      {"camera_matrix",
+       "!!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 510.5, 0., 321.25, 0., "
+       "505.75, "
+       "238.5, 0., 0., 1. ]"},
+      {"distortion_coefficients",
+       "!!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ -0.1, 0.02, 0.001, -0.002, "
+       "0.003 ]"},
+      {"camera_pitch_deg", "45."},
+      {"camera_height_m", "0.5"},
+      {"ceiling_height_m", "3.0"},
+      {"tape_width_m", "0.05"},
+  };
+}
+
+std::string yaml(const std::map<std::string, std::string>& keys) {
+  std::string s = "%YAML:1.0\n---\n";
+  for (const auto& [k, v] : keys) s += k + ": " + v + "\n";
+  return s;
+}
+
+// Expects ConfigError whose message contains every string in `needles`.
+template <typename F>
+void expect_config_error(F&& f, std::initializer_list<std::string> needles) {
+  try {
+    f();
+    ADD_FAILURE() << "no ConfigError thrown";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    for (const auto& n : needles)
+      EXPECT_NE(msg.find(n), std::string::npos) << msg << " lacks " << n;
+  }
+}
+
+TEST_F(ConfigIoTest, ReadsValidFile) {
+  const std::string p = write("ok.yaml", yaml(valid_keys()));
+  const CameraConfig c = load_camera_config(p);
+  EXPECT_EQ(c.image_width, 640);
+  EXPECT_EQ(c.image_height, 480);
+  EXPECT_EQ(c.fx(), 510.5);
+  EXPECT_EQ(c.fy(), 505.75);
+  EXPECT_EQ(c.cx(), 321.25);
+  EXPECT_EQ(c.cy(), 238.5);
+  EXPECT_EQ(c.distortion_coefficients[0], -0.1);
+  EXPECT_EQ(c.distortion_coefficients[4], 0.003);
+  EXPECT_EQ(c.camera_pitch_deg, 45.0);
+  EXPECT_EQ(c.camera_height_m, 0.5);
+  EXPECT_EQ(c.ceiling_height_m, 3.0);
+  EXPECT_EQ(c.tape_width_m, 0.05);
+}
+
+TEST_F(ConfigIoTest, RoundTripIsExact) {
+  CameraConfig c;
+  c.image_width = 1280;
+  c.image_height = 960;
+  c.camera_matrix = {
+      1012.3456789012345, 0, 641.123456789, 0, 1009.87654321, 477.000000001, 0, 0, 1};
+  c.distortion_coefficients = {-0.2876543210987, 0.0912345678, 1.234e-4, -5.678e-5, -0.0123456789};
+  c.camera_pitch_deg = 37.123456789;
+  c.camera_height_m = 0.4321;
+  c.ceiling_height_m = 2.987654321;
+  c.tape_width_m = 0.0254;
+  const std::string p = path("rt.yaml");
+  save_camera_config(c, p);
+  const CameraConfig r = load_camera_config(p);
+  EXPECT_EQ(r.image_width, c.image_width);
+  EXPECT_EQ(r.image_height, c.image_height);
+  EXPECT_EQ(r.camera_matrix, c.camera_matrix);
+  EXPECT_EQ(r.distortion_coefficients, c.distortion_coefficients);
+  EXPECT_EQ(r.camera_pitch_deg, c.camera_pitch_deg);
+  EXPECT_EQ(r.camera_height_m, c.camera_height_m);
+  EXPECT_EQ(r.ceiling_height_m, c.ceiling_height_m);
+  EXPECT_EQ(r.tape_width_m, c.tape_width_m);
+
+  // The file is what a cv::calibrateCamera user writes: 3x3 and 1x5 CV_64F matrices.
+  cv::FileStorage fsr(p, cv::FileStorage::READ);
+  cv::Mat k, d;
+  fsr["camera_matrix"] >> k;
+  fsr["distortion_coefficients"] >> d;
+  EXPECT_EQ(k.type(), CV_64F);
+  EXPECT_EQ(k.rows, 3);
+  EXPECT_EQ(k.cols, 3);
+  EXPECT_EQ(d.rows, 1);
+  EXPECT_EQ(d.cols, 5);
+  EXPECT_EQ(d.at<double>(0, 0), c.distortion_coefficients[0]);
+  EXPECT_EQ(static_cast<int>(fsr["image_width"]), 1280);
+}
+
+TEST_F(ConfigIoTest, AcceptsColumnAndFourCoefficientDistortion) {
+  auto keys = valid_keys();
+  keys["distortion_coefficients"] =
+      "!!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n   data: [ 0.1, 0.2, 0.3, 0.4, 0.5 ]";
+  CameraConfig c = load_camera_config(write("col.yaml", yaml(keys)));
+  EXPECT_EQ(c.distortion_coefficients, (std::array<double, 5>{0.1, 0.2, 0.3, 0.4, 0.5}));
+  keys["distortion_coefficients"] =
+      "!!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: f\n   data: [ 0.5, 0.25, 0.125, 0.0625 ]";
+  c = load_camera_config(write("four.yaml", yaml(keys)));
+  EXPECT_EQ(c.distortion_coefficients, (std::array<double, 5>{0.5, 0.25, 0.125, 0.0625, 0.0}));
+  keys["distortion_coefficients"] =
+      "!!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0., 0., 0., 0., 0. ]";
+  c = load_camera_config(write("zero.yaml", yaml(keys)));
+  EXPECT_FALSE(c.has_distortion());
+}
+
+TEST_F(ConfigIoTest, EveryMissingKeyIsNamed) {
+  for (const auto& [key, value] : valid_keys()) {
+    auto keys = valid_keys();
+    keys.erase(key);
+    const std::string p = write("missing_" + key + ".yaml", yaml(keys));
+    expect_config_error([&] { load_camera_config(p); }, {p, key, "missing"});
+  }
+}
+
+TEST_F(ConfigIoTest, WrongTypesAreNamed) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"image_width", "abc"},
+      {"image_width", "640.5"},
+      {"image_height", "[ 1, 2 ]"},
+      {"camera_matrix", "500."},
+      {"camera_matrix",
+       "!!opencv-matrix\n   rows: 2\n   cols: 3\n   dt: d\n   data: [ 1., 0., 1., 0., 1., 1. ]"},
+      {"camera_matrix", "{ a: 1 }"},
+      {"distortion_coefficients",
+       "!!opencv-matrix\n   rows: 1\n   cols: 3\n   dt: d\n   data: [ 0., 0., 0. ]"},
+      {"distortion_coefficients",
+       "!!opencv-matrix\n   rows: 2\n   cols: 4\n   dt: d\n   data: [ 0., 0., 0., 0., 0., 0., 0., "
+       "0. ]"},
+      {"camera_pitch_deg", "steep"},
+      {"camera_height_m", "[ 0.5 ]"},
+      {"ceiling_height_m", "\"3.0\""},
+      {"tape_width_m", "{ w: 0.05 }"},
+  };
+  int i = 0;
+  for (const auto& [key, value] : cases) {
+    auto keys = valid_keys();
+    keys[key] = value;
+    const std::string p = write("type_" + std::to_string(i++) + ".yaml", yaml(keys));
+    expect_config_error([&] { load_camera_config(p); }, {p, key});
+  }
+}
+
+TEST_F(ConfigIoTest, OutOfRangeValuesAreNamed) {
+  const std::string k_head = "!!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"image_width", "0"},
+      {"image_width", "2049"},
+      {"image_height", "-480"},
+      {"image_height", "4096"},
+      {"camera_matrix", k_head + "[ -500., 0., 320., 0., 500., 240., 0., 0., 1. ]"},
+      {"camera_matrix", k_head + "[ 500., 0., 320., 0., 0., 240., 0., 0., 1. ]"},
+      {"camera_matrix", k_head + "[ 500., 0., 700., 0., 500., 240., 0., 0., 1. ]"},
+      {"camera_matrix", k_head + "[ 500., 0., 320., 0., 500., -3., 0., 0., 1. ]"},
+      {"camera_matrix", k_head + "[ 500., 2., 320., 0., 500., 240., 0., 0., 1. ]"},
+      {"camera_matrix", k_head + "[ 500., 0., 320., 0., 500., 240., 0., 0., 2. ]"},
+      {"camera_pitch_deg", "0."},
+      {"camera_pitch_deg", "-10."},
+      {"camera_pitch_deg", "90.5"},
+      {"camera_pitch_deg", ".nan"},
+      {"ceiling_height_m", "0.5"},
+      {"ceiling_height_m", "0.2"},
+      {"tape_width_m", "0."},
+      {"tape_width_m", "-0.05"},
+  };
+  int i = 0;
+  for (const auto& [key, value] : cases) {
+    auto keys = valid_keys();
+    keys[key] = value;
+    const std::string p = write("range_" + std::to_string(i++) + ".yaml", yaml(keys));
+    expect_config_error([&] { load_camera_config(p); }, {p, key});
+  }
+  // Edge of the ranges: accepted.
+  auto keys = valid_keys();
+  keys["camera_pitch_deg"] = "90.";
+  keys["image_width"] = "2048";
+  keys["image_height"] = "1";
+  keys["camera_matrix"] = k_head + "[ 500., 0., 2047.5, 0., 500., -0.5, 0., 0., 1. ]";
+  EXPECT_NO_THROW(load_camera_config(write("edge.yaml", yaml(keys))));
+}
+
+TEST_F(ConfigIoTest, UnreadableFilesAreNamed) {
+  const std::string none = path("does_not_exist.yaml");
+  expect_config_error([&] { load_camera_config(none); }, {none, "no such file"});
+  const std::string empty = write("empty.yaml", "");
+  expect_config_error([&] { load_camera_config(empty); }, {empty, "empty"});
+  const std::string garbage = write("garbage.yaml", "%YAML:1.0\n{{{: [ ]] :\x01\x02 \n");
+  expect_config_error([&] { load_camera_config(garbage); }, {garbage});
+  const std::string text = write("text.yaml", "this is not a configuration\n");
+  expect_config_error([&] { load_camera_config(text); }, {text});
+  const std::string scalar = write("scalar.yaml", "%YAML:1.0\n--- 42\n");
+  expect_config_error([&] { load_camera_config(scalar); }, {scalar});
+  expect_config_error([&] { load_camera_config(dir_.string()); }, {dir_.string()});
+}
+
+TEST_F(ConfigIoTest, SaveRejectsBadConfigAndUnwritablePath) {
+  CameraConfig bad;
+  bad.tape_width_m = -1.0;
+  const std::string p = path("bad.yaml");
+  expect_config_error([&] { save_camera_config(bad, p); }, {p, "tape_width_m"});
+  EXPECT_FALSE(fs::exists(p));
+  const std::string q = (dir_ / "no_such_dir" / "x.yaml").string();
+  expect_config_error([&] { save_camera_config(CameraConfig{}, q); }, {q});
+}
+
+}  // namespace
+}  // namespace ceilnav::host

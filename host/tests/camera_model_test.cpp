@@ -1,0 +1,140 @@
+#include "host/camera_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+
+namespace ceilnav::host {
+namespace {
+
+CameraConfig make_config(int w, int h, std::array<double, 5> dist) {
+  CameraConfig c;
+  c.image_width = w;
+  c.image_height = h;
+  const double f = 0.8 * w;
+  c.camera_matrix = {f, 0.0, 0.5 * w - 0.5 + 3.25, 0.0, f * 1.01, 0.5 * h - 0.5 - 2.75, 0, 0, 1};
+  c.distortion_coefficients = dist;
+  return c;
+}
+
+// Distortion sets a calibration can produce for a 50-70 deg lens.
+const std::vector<std::array<double, 5>> kDistortions = {
+    {-0.30, 0.12, 0.0, 0.0, -0.02},       // barrel
+    {0.15, -0.05, 0.0, 0.0, 0.01},        // pincushion
+    {-0.22, 0.05, 1.5e-3, -2.0e-3, 0.0},  // with tangential terms
+    {-0.05, 0.0, 0.0, 0.0, 0.0},          // mild
+};
+
+std::vector<cv::Point2d> pixel_grid(const CameraConfig& c) {
+  std::vector<cv::Point2d> px;
+  for (int j = 0; j <= 16; ++j) {
+    for (int i = 0; i <= 16; ++i) {
+      px.emplace_back(-0.5 + (c.image_width) * i / 16.0, -0.5 + (c.image_height) * j / 16.0);
+    }
+  }
+  return px;
+}
+
+TEST(CameraModel, WithoutDistortionIsInverseK) {
+  const CameraConfig c = make_config(640, 480, {});
+  const CameraModel m(c);
+  EXPECT_FALSE(m.has_distortion());
+  for (const auto& p : pixel_grid(c)) {
+    const Eigen::Vector2d xy = m.normalise(p.x, p.y);
+    EXPECT_NEAR(xy.x(), (p.x - c.cx()) / c.fx(), 1e-15);
+    EXPECT_NEAR(xy.y(), (p.y - c.cy()) / c.fy(), 1e-15);
+    const Eigen::Vector2d back = m.distort_to_pixel(xy);
+    EXPECT_NEAR(back.x(), p.x, 1e-12);
+    EXPECT_NEAR(back.y(), p.y, 1e-12);
+    EXPECT_EQ(m.ideal_pixel(xy), back);
+  }
+}
+
+TEST(CameraModel, DistortToPixelMatchesProjectPoints) {
+  for (const auto& dist : kDistortions) {
+    const CameraConfig c = make_config(800, 600, dist);
+    const CameraModel m(c);
+    std::vector<cv::Point3d> obj;
+    std::vector<Eigen::Vector2d> xy;
+    for (int j = -6; j <= 6; ++j) {
+      for (int i = -8; i <= 8; ++i) {
+        xy.emplace_back(0.08 * i, 0.08 * j);
+        obj.emplace_back(0.08 * i, 0.08 * j, 1.0);
+      }
+    }
+    const cv::Mat k(3, 3, CV_64F, const_cast<double*>(c.camera_matrix.data()));
+    const cv::Mat d(1, 5, CV_64F, const_cast<double*>(c.distortion_coefficients.data()));
+    std::vector<cv::Point2d> img;
+    cv::projectPoints(obj, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k, d, img);
+    for (size_t n = 0; n < xy.size(); ++n) {
+      const Eigen::Vector2d p = m.distort_to_pixel(xy[n]);
+      EXPECT_NEAR(p.x(), img[n].x, 1e-9);
+      EXPECT_NEAR(p.y(), img[n].y, 1e-9);
+      const Eigen::Vector2d ideal = m.ideal_pixel(xy[n]);
+      EXPECT_NEAR(ideal.x(), c.fx() * xy[n].x() + c.cx(), 1e-12);
+    }
+  }
+}
+
+TEST(CameraModel, NormaliseInvertsDistortionToBelow1e10) {
+  for (const auto& dist : kDistortions) {
+    for (const auto& [w, h] : {std::pair{320, 240}, std::pair{640, 480}, std::pair{1280, 960}}) {
+      const CameraConfig c = make_config(w, h, dist);
+      const CameraModel m(c);
+      for (const auto& p : pixel_grid(c)) {
+        const Eigen::Vector2d xy = m.normalise(p.x, p.y);
+        const Eigen::Vector2d xd = m.distort(xy);
+        // Residual in normalised (distorted) coordinates.
+        EXPECT_NEAR(xd.x(), (p.x - c.cx()) / c.fx(), 1e-12) << w << " " << p.x << "," << p.y;
+        EXPECT_NEAR(xd.y(), (p.y - c.cy()) / c.fy(), 1e-12) << w << " " << p.x << "," << p.y;
+      }
+    }
+  }
+}
+
+TEST(CameraModel, NormaliseMatchesUndistortPoints) {
+  for (const auto& dist : kDistortions) {
+    const CameraConfig c = make_config(640, 480, dist);
+    const CameraModel m(c);
+    const std::vector<cv::Point2d> px = pixel_grid(c);
+    const cv::Mat k(3, 3, CV_64F, const_cast<double*>(c.camera_matrix.data()));
+    const cv::Mat d(1, 5, CV_64F, const_cast<double*>(c.distortion_coefficients.data()));
+    std::vector<cv::Point2d> und;
+    // OpenCV's default is 5 fixed-point iterations; ask for convergence.
+    cv::undistortPoints(
+        px, und, k, d, cv::noArray(), cv::noArray(),
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 500, 1e-15));
+    for (size_t n = 0; n < px.size(); ++n) {
+      const Eigen::Vector2d xy = m.normalise(px[n].x, px[n].y);
+      EXPECT_NEAR(xy.x(), und[n].x, 1e-9) << px[n].x << "," << px[n].y;
+      EXPECT_NEAR(xy.y(), und[n].y, 1e-9) << px[n].x << "," << px[n].y;
+    }
+  }
+}
+
+// The host step has a budget of ~20 us per frame for ~200 run centres.
+TEST(CameraModel, NormaliseIsCheap) {
+  const CameraConfig c = make_config(640, 480, kDistortions[0]);
+  const CameraModel m(c);
+  constexpr int kPoints = 200, kReps = 200;
+  double sink = 0.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int r = 0; r < kReps; ++r) {
+    for (int i = 0; i < kPoints; ++i) {
+      const Eigen::Vector2d xy = m.normalise(100.0 + 2.2 * i + 0.01 * r, 20.0 + 2.0 * i);
+      sink += xy.x();
+    }
+  }
+  const double us =
+      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() /
+      kReps;
+  std::printf("normalise with distortion: %.2f us per 200 points (sink %g)\n", us, sink);
+  EXPECT_LT(us, 100.0);  // loose: shared machine; typical figure in docs/host_maths.md
+}
+
+}  // namespace
+}  // namespace ceilnav::host

@@ -1,0 +1,176 @@
+#include "host/flow_height.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "golden/renderer.hpp"
+#include "golden/run_scanner_ref.hpp"
+#include "golden/scene.hpp"
+
+namespace ceilnav::host {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+CameraConfig make_config(double pitch_deg, bool distorted) {
+  CameraConfig c;
+  c.camera_matrix = {500.0, 0.0, 322.0, 0.0, 500.0, 238.0, 0.0, 0.0, 1.0};
+  if (distorted) c.distortion_coefficients = {-0.2, 0.05, 5e-4, -3e-4, 0.0};
+  c.camera_pitch_deg = pitch_deg;
+  c.camera_height_m = 0.5;
+  c.ceiling_height_m = 3.0;
+  return c;
+}
+
+// Normalised coordinates of a world point through the golden projection and
+// this camera model's undistortion.
+Eigen::Vector2d seen_at(const CameraConfig& c, const golden::CameraPose& pose,
+                        const Eigen::Vector3d& pt, bool distorted) {
+  const auto px = golden::project_point(c, pose, pt, distorted);
+  EXPECT_TRUE(px.has_value());
+  return CameraModel(c).normalise(px->x(), px->y());
+}
+
+TEST(FlowHeight, ExactProjectionsAnyPitchAndYaw) {
+  for (bool distorted : {false, true}) {
+    for (double pitch_deg : {20.0, 35.0, 50.0, 70.0, 90.0}) {
+      const CameraConfig c = make_config(pitch_deg, distorted);
+      for (double yaw_deg : {-15.0, 0.0, 15.0}) {
+        for (double d : {0.1, 0.5}) {
+          // The robot moves along +X (along the tape) with heading yaw: the
+          // motion is at -yaw from the heading.
+          const golden::CameraPose p1{0.0, 0.2, yaw_deg * kDeg}, p2{d, 0.2, yaw_deg * kDeg};
+          // A ceiling point in view of both frames: ahead by an amount that
+          // keeps it inside the field of view for this pitch.
+          const double ahead =
+              c.ceiling_above_camera_m() / std::tan((pitch_deg + 5.0) * kDeg) + 0.6;
+          const Eigen::Vector3d pt(ahead, 0.1, c.ceiling_height_m);
+          const Eigen::Vector2d a = seen_at(c, p1, pt, distorted);
+          const Eigen::Vector2d b = seen_at(c, p2, pt, distorted);
+          const HeightEstimate h =
+              ceiling_height_from_flow(a.y(), b.y(), pitch_deg * kDeg, d, -yaw_deg * kDeg);
+          ASSERT_EQ(h.status, Status::ok) << pitch_deg << " " << yaw_deg;
+          EXPECT_NEAR(h.ceiling_above_camera_m, c.ceiling_above_camera_m(), 1e-9)
+              << pitch_deg << " " << yaw_deg << " " << distorted;
+          // Range: the point's horizontal distance along the heading at frame 1.
+          const double range =
+              (pt.x() - p1.x_m) * std::cos(p1.yaw_rad) + (pt.y() - p1.y_m) * std::sin(p1.yaw_rad);
+          EXPECT_NEAR(h.range_m, range, 1e-9);
+        }
+      }
+    }
+  }
+}
+
+// Seed 000 eq. 44 (cos^2) agrees with the general form; eq. 55 (cos) does not.
+TEST(FlowHeight, Eq44HoldsEq55DoesNot) {
+  for (double pitch_deg : {20.0, 45.0, 70.0}) {
+    const CameraConfig c = make_config(pitch_deg, false);
+    const double p = pitch_deg * kDeg, d = 0.4;
+    const Eigen::Vector3d pt(4.0, 0.0, c.ceiling_height_m);
+    const Eigen::Vector2d a = seen_at(c, {0.0, 0.0, 0.0}, pt, false);
+    const Eigen::Vector2d b = seen_at(c, {d, 0.0, 0.0}, pt, false);
+    // Seed coordinates: v up, v' = v - vv = tan p - y.
+    const double v1 = std::tan(p) - a.y(), v2 = std::tan(p) - b.y();
+    const double eq44 = d * v1 * v2 * std::cos(p) * std::cos(p) / (v2 - v1);
+    const double eq55 = d * v1 * v2 * std::cos(p) / (v2 - v1);
+    const double eq57 = d * v2 * (1.0 - v1 * std::sin(p) * std::cos(p)) / (v2 - v1);
+    EXPECT_NEAR(eq44, c.ceiling_above_camera_m(), 1e-9);
+    EXPECT_GT(std::abs(eq55 - c.ceiling_above_camera_m()), 0.05);
+    EXPECT_NEAR(eq55 * std::cos(p), c.ceiling_above_camera_m(), 1e-9);
+    EXPECT_NEAR(eq57, 4.0, 1e-9);  // eq. 57 (range) is right
+    const HeightEstimate h = ceiling_height_from_flow(a.y(), b.y(), p, d);
+    EXPECT_NEAR(h.ceiling_above_camera_m, eq44, 1e-9);
+  }
+}
+
+TEST(FlowHeight, DegenerateInputsAreStatuses) {
+  const double p = 45 * kDeg;
+  EXPECT_EQ(ceiling_height_from_flow(-0.3, -0.35, p, 0.0).status, Status::degenerate);  // no motion
+  EXPECT_EQ(ceiling_height_from_flow(-0.3, -0.35, p, -0.2).status, Status::degenerate);
+  EXPECT_EQ(ceiling_height_from_flow(-0.3, -0.3, p, 0.2).status,
+            Status::degenerate);  // no parallax
+  EXPECT_EQ(ceiling_height_from_flow(-0.3, -0.25, p, 0.2).status, Status::degenerate);  // wrong way
+  EXPECT_EQ(ceiling_height_from_flow(1.0, -0.3, p, 0.2).status, Status::degenerate);    // horizon
+  EXPECT_EQ(ceiling_height_from_flow(1.5, -0.3, p, 0.2).status, Status::degenerate);    // below it
+  EXPECT_EQ(ceiling_height_from_flow(NAN, -0.3, p, 0.2).status, Status::degenerate);
+  EXPECT_EQ(ceiling_height_from_flow(-0.3, -0.35, p, 0.2, 90 * kDeg).status, Status::degenerate);
+  const HeightEstimate ok = ceiling_height_from_flow(-0.3, -0.35, p, 0.2);
+  EXPECT_EQ(ok.status, Status::ok);
+  EXPECT_GT(ok.ceiling_above_camera_m, 0.0);
+}
+
+std::vector<stream::RunRecord> runs_of(const cv::Mat& grey, int threshold, int background) {
+  cv::Mat mask = grey >= threshold;
+  return golden::find_runs_ref(
+      grey, mask,
+      {static_cast<uint8_t>(background), static_cast<uint16_t>(2), static_cast<uint16_t>(16)});
+}
+
+// Two rendered frames of the corridor: the end of the first tape piece (x = 6 m)
+// is tracked while the robot moves 1 m along the tape.
+TEST(FlowHeight, RenderedTapeEndGivesCeilingHeight) {
+  for (double pitch_deg : {30.0, 45.0}) {
+    for (double yaw_deg : {-8.0, 0.0, 8.0}) {
+      CameraConfig c = make_config(pitch_deg, true);
+      const CameraModel cam(c);
+      golden::CorridorOptions co;
+      co.branch_length_m = 0.0;
+      const golden::CeilingScene scene = golden::corridor_scene(c.tape_width_m, co);
+      const double d = 1.0;
+      const golden::CameraPose p1{0.5, 0.1, yaw_deg * kDeg}, p2{0.5 + d, 0.1, yaw_deg * kDeg};
+      golden::RenderParams rp;
+      rp.noise_sigma_grey = 2.0;
+      rp.blur_sigma_px = 0.7;
+      std::optional<Eigen::Vector2d> ends[2];
+      int k = 0;
+      for (const auto& pose : {p1, p2}) {
+        rp.noise_seed = static_cast<uint64_t>(k + 5);
+        const cv::Mat f = golden::render_frame(c, scene, pose, rp);
+        const auto runs = runs_of(f, 16 + 12, 16 + 4);
+        const TapePose tp = estimate_tape_pose(runs, cam, c);
+        ASSERT_EQ(tp.status, Status::ok);
+        ends[k] = find_tape_end(runs, cam, c, tp);
+        ASSERT_TRUE(ends[k].has_value()) << pitch_deg << " " << yaw_deg << " frame " << k;
+        // Against the projected truth of the tape end (6, 0, ceiling).
+        const Eigen::Vector2d truth =
+            seen_at(c, pose, Eigen::Vector3d(6.0, 0.0, c.ceiling_height_m), true);
+        // Bound: the threshold drops end rows covered less than threshold / peak.
+        EXPECT_NEAR(ends[k]->y() * c.fy(), truth.y() * c.fy(), 1.5) << pitch_deg << " " << yaw_deg;
+        EXPECT_NEAR(ends[k]->x() * c.fx(), truth.x() * c.fx(), 1.0) << pitch_deg << " " << yaw_deg;
+        std::printf("  frame %d: end row error %+.3f px, column error %+.3f px\n", k,
+                    (ends[k]->y() - truth.y()) * c.fy(), (ends[k]->x() - truth.x()) * c.fx());
+        ++k;
+      }
+      const HeightEstimate h = ceiling_height_from_flow(ends[0]->y(), ends[1]->y(),
+                                                        pitch_deg * kDeg, d, -yaw_deg * kDeg);
+      ASSERT_EQ(h.status, Status::ok);
+      std::printf("pitch %.0f yaw %+.0f: c = %.4f m (truth %.4f)\n", pitch_deg, yaw_deg,
+                  h.ceiling_above_camera_m, c.ceiling_above_camera_m());
+      EXPECT_NEAR(h.ceiling_above_camera_m, c.ceiling_above_camera_m(),
+                  0.05 * c.ceiling_above_camera_m());
+    }
+  }
+}
+
+TEST(FlowHeight, NoEndWhenTheTapeIsUnbroken) {
+  const CameraConfig c = make_config(45.0, false);
+  const CameraModel cam(c);
+  const golden::CeilingScene scene = golden::single_tape_scene(c.tape_width_m);
+  golden::RenderParams rp;
+  rp.noise_sigma_grey = 1.0;
+  const cv::Mat f = golden::render_frame(c, scene, {0.0, 0.0, 0.05}, rp);
+  const auto runs = runs_of(f, 28, 18);
+  const TapePose tp = estimate_tape_pose(runs, cam, c);
+  ASSERT_EQ(tp.status, Status::ok);
+  EXPECT_FALSE(find_tape_end(runs, cam, c, tp).has_value());
+  EXPECT_FALSE(find_tape_end({}, cam, c, tp).has_value());
+}
+
+}  // namespace
+}  // namespace ceilnav::host
