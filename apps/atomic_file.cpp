@@ -13,8 +13,12 @@ namespace {
 
 fs::path temporary_name(const fs::path& destination) {
   std::random_device rd;
-  const auto tag = std::to_string(::getpid()) + "." + std::to_string(rd() & 0xFFFFFFu);
-  return destination.parent_path() / ("." + destination.filename().string() + "." + tag + ".tmp");
+  // Built with append(): g++ 12 reports a false -Wrestrict on chained operator+.
+  std::string name(".");
+  name.append(destination.filename().string());
+  name.append(".").append(std::to_string(::getpid()));
+  name.append(".").append(std::to_string(rd() & 0xFFFFFFu)).append(".tmp");
+  return destination.parent_path() / name;
 }
 
 fs::path folder_of(const fs::path& p) {

@@ -54,8 +54,7 @@ cv::Mat read_grey_frame(const fs::path& file, int expected_width, int expected_h
     throw InputError("cannot decode frame '" + file.string() + "' (corrupt or not an image)");
   }
   if (img.depth() != CV_8U) {
-    throw InputError("frame '" + file.string() + "' has " +
-                     std::to_string(8 * img.elemSize1()) +
+    throw InputError("frame '" + file.string() + "' has " + std::to_string(8 * img.elemSize1()) +
                      "-bit samples; only 8-bit images are accepted");
   }
   cv::Mat grey;

@@ -35,15 +35,15 @@ ThresholdSettings choose_threshold(const stream::HistogramResults& hist,
 
   const int bg = quantile(h, total, 0.5);
   std::array<uint64_t, 256> dev{};  // histogram of |grey - background|
-  for (int g = 0; g < 256; ++g) dev[static_cast<size_t>(std::abs(g - bg))] += h[static_cast<size_t>(g)];
+  for (int g = 0; g < 256; ++g)
+    dev[static_cast<size_t>(std::abs(g - bg))] += h[static_cast<size_t>(g)];
   const double sigma = std::max(0.5, 1.4826 * quantile(dev, total, 0.5));
   const int peak = quantile(h, total, opt.peak_quantile);
 
   s.background_grey = bg;
   s.noise_sigma_grey = sigma;
   s.peak_grey = static_cast<uint8_t>(peak);
-  const double t =
-      std::ceil(bg + std::max(opt.noise_k * sigma, opt.peak_fraction * (peak - bg)));
+  const double t = std::ceil(bg + std::max(opt.noise_k * sigma, opt.peak_fraction * (peak - bg)));
   s.usable = t <= static_cast<double>(peak) && t <= 255.0;
   s.threshold = static_cast<uint8_t>(std::clamp(t, 1.0, 255.0));
   s.background_level =

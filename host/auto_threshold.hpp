@@ -10,19 +10,19 @@
 namespace ceilnav::host {
 
 struct ThresholdOptions {
-  double noise_k = 6.0;         // tunable: threshold >= background + noise_k * sigma
-  double peak_fraction = 0.15;  // tunable: threshold >= background + this * (peak - background)
-  double peak_quantile = 0.999; // the peak is this quantile of the grey histogram
-  double weight_noise_k = 2.0;  // tunable: background_level = background + this * sigma
+  double noise_k = 6.0;          // tunable: threshold >= background + noise_k * sigma
+  double peak_fraction = 0.15;   // tunable: threshold >= background + this * (peak - background)
+  double peak_quantile = 0.999;  // the peak is this quantile of the grey histogram
+  double weight_noise_k = 2.0;   // tunable: background_level = background + this * sigma
 };
 
 struct ThresholdSettings {
-  uint8_t threshold = 255;         // mask = grey >= threshold
-  uint8_t background_level = 0;    // run weights w = max(0, grey - background_level)
-  double background_grey = 0.0;    // histogram median
-  double noise_sigma_grey = 0.0;   // 1.4826 * median |grey - background| (robust Gaussian sigma)
-  uint8_t peak_grey = 0;           // peak_quantile of the histogram
-  bool usable = false;             // a bright population well above the noise exists
+  uint8_t threshold = 255;        // mask = grey >= threshold
+  uint8_t background_level = 0;   // run weights w = max(0, grey - background_level)
+  double background_grey = 0.0;   // histogram median
+  double noise_sigma_grey = 0.0;  // 1.4826 * median |grey - background| (robust Gaussian sigma)
+  uint8_t peak_grey = 0;          // peak_quantile of the histogram
+  bool usable = false;            // a bright population well above the noise exists
 
   friend bool operator==(const ThresholdSettings&, const ThresholdSettings&) = default;
 };

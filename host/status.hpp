@@ -7,11 +7,11 @@ namespace ceilnav::host {
 
 enum class Status {
   ok,
-  no_tape,          // no runs / nothing bright in the frame
-  too_few_points,   // not enough run centres for a robust line fit
-  degenerate,       // geometry cannot be solved (line parallel to horizon, zero motion, ...)
-  bad_config,       // configuration out of range
-  frame_invalid,    // the device flagged the frame (malformed stream, FIFO overflow)
+  no_tape,         // no runs / nothing bright in the frame
+  too_few_points,  // not enough run centres for a robust line fit
+  degenerate,      // geometry cannot be solved (line parallel to horizon, zero motion, ...)
+  bad_config,      // configuration out of range
+  frame_invalid,   // the device flagged the frame (malformed stream, FIFO overflow)
 };
 
 std::string_view to_string(Status s);

@@ -20,21 +20,23 @@ struct VideoBeat {
 // every beat with valid = true. x, y are the pixel's column and row.
 struct PixelBeat {
   bool valid = false;
-  uint8_t grey = 0;   // camera pixel
-  uint16_t x = 0;     // column, 0 .. width-1
-  uint16_t y = 0;     // row, 0 .. height-1
-  bool sof = false;   // x == 0 && y == 0
-  bool eol = false;   // x == width-1
-  bool eof = false;   // last pixel of the frame: eol && y == height-1
-  bool abort = false; // frame aborted by frame_check (no pixel: valid = false);
-                      // downstream discards the partial frame
+  uint8_t grey = 0;    // camera pixel
+  uint16_t x = 0;      // column, 0 .. width-1
+  uint16_t y = 0;      // row, 0 .. height-1
+  bool sof = false;    // x == 0 && y == 0
+  bool eol = false;    // x == width-1
+  bool eof = false;    // last pixel of the frame: eol && y == height-1
+  bool abort = false;  // frame aborted by frame_check. With valid = false: no pixel.
+                       // With valid and sof: an early SOF, the old frame is
+                       // aborted and this pixel starts the new one (same beat).
+                       // Downstream discards the partial frame
 };
 
 // After thresh_lut: the pixel beat plus the LUT outputs, one cycle later.
 struct LutBeat {
-  PixelBeat pix;       // delayed copy of the pixel beat (grey = camera pixel)
-  uint8_t remap = 0;   // LUT[grey] bits 7:0
-  bool mask = false;   // LUT[grey] bit 8
+  PixelBeat pix;      // delayed copy of the pixel beat (grey = camera pixel)
+  uint8_t remap = 0;  // LUT[grey] bits 7:0
+  bool mask = false;  // LUT[grey] bit 8
 };
 
 }  // namespace ceilnav::stream

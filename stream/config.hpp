@@ -18,8 +18,8 @@ constexpr LutEntry lut_entry(uint8_t remap, bool mask) {
 }
 
 struct PipelineConfig {
-  uint16_t width = 640;   // pixels per line, 1 .. kMaxWidth
-  uint16_t height = 480;  // lines per frame, 1 .. kMaxHeight
+  uint16_t width = 640;             // pixels per line, 1 .. kMaxWidth
+  uint16_t height = 480;            // lines per frame, 1 .. kMaxHeight
   std::array<LutEntry, 256> lut{};  // default: all zero (remap 0, mask 0)
   uint8_t background_level = 0;     // run scanner: w = max(0, remap - background_level)
   uint16_t min_run_length = 1;      // shorter runs are not emitted (pixels)

@@ -7,8 +7,8 @@
 namespace ceilnav::stream {
 
 // Largest frame the device accepts: 2048 x 2048 (covers 1920x1080).
-inline constexpr int kCoordBits = 11;                    // x in [0, 2047], y in [0, 2047]
-inline constexpr uint32_t kMaxWidth = 1u << kCoordBits;  // pixels per line
+inline constexpr int kCoordBits = 11;                     // x in [0, 2047], y in [0, 2047]
+inline constexpr uint32_t kMaxWidth = 1u << kCoordBits;   // pixels per line
 inline constexpr uint32_t kMaxHeight = 1u << kCoordBits;  // lines per frame
 inline constexpr int kPixelBits = 8;
 

@@ -27,9 +27,9 @@ struct HistogramResults {
 // not a run: trailer.run.row = runs emitted for the frame (saturating at 0xFFFF),
 // trailer.run.x_start = RunTrailerFlags. The consumer drives tready.
 enum RunTrailerFlags : uint16_t {
-  kTrailerRowLimitHit = 1u << 0,  // some row had more than max_runs_per_row runs
-  kTrailerFifoOverflow = 1u << 1, // a run was lost because the FIFO was full
-  kTrailerFrameAborted = 1u << 2, // frame_check aborted the frame: runs are partial
+  kTrailerRowLimitHit = 1u << 0,   // some row had more than max_runs_per_row runs
+  kTrailerFifoOverflow = 1u << 1,  // a run was lost because the FIFO was full
+  kTrailerFrameAborted = 1u << 2,  // frame_check aborted the frame: runs are partial
 };
 
 struct RunBeat {
@@ -40,10 +40,10 @@ struct RunBeat {
 };
 
 struct RunStats {
-  uint32_t runs_emitted = 0;        // runs pushed into the FIFO this frame
+  uint32_t runs_emitted = 0;  // runs pushed into the FIFO this frame
   uint32_t runs_dropped_row_limit = 0;
   uint32_t runs_dropped_overflow = 0;
-  uint32_t fifo_high_water = 0;     // max FIFO occupancy seen this frame (entries)
+  uint32_t fifo_high_water = 0;  // max FIFO occupancy seen this frame (entries)
   friend bool operator==(const RunStats&, const RunStats&) = default;
 };
 

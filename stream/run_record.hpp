@@ -1,8 +1,8 @@
 // One run of mask = 1 pixels on one row, as the run scanner emits it.
 #pragma once
 
-#include <cstdint>
 #include <compare>
+#include <cstdint>
 
 namespace ceilnav::stream {
 

@@ -1,0 +1,60 @@
+// The subcommands of the ceilnav program. Each returns the process exit code;
+// errors the user can fix (bad files, arguments) throw std::runtime_error and
+// are reported by main() with exit code 1.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace ceilnav::app {
+
+struct DemoOptions {
+  std::string out_dir = "ceilnav-demo";
+  int frames = 40;
+  bool clocked = false;  // stream every frame through the cycle-level model
+  bool quiet = false;
+};
+int run_demo(const DemoOptions& o);
+
+struct RunOptions {
+  std::string frames_dir;
+  std::string scene_file;
+  std::string out_csv;
+  bool clocked = false;
+  double gap_probability = 0.0;
+  double backpressure_probability = 0.0;
+  uint64_t seed = 1;
+};
+int run_frames(const RunOptions& o);
+
+struct RenderOptions {
+  std::string out_dir;
+  int frames = 20;
+  bool random_poses = false;  // random poses in the accuracy ranges instead of the demo drive
+  uint64_t seed = 1;
+  double noise_sigma = -1.0;  // < 0: the default scene's
+  double blur_sigma = -1.0;
+  double pitch_deg = 45.0;
+  int width = 640, height = 480;
+  bool distortion = true;
+};
+int run_render(const RenderOptions& o);
+
+struct AccuracyOptions {
+  int frames = 200;
+  uint64_t seed = 1;
+  double pitch_min_deg = 20.0, pitch_max_deg = 60.0;
+  double yaw_max_deg = 15.0;
+  double offset_max_m = 0.5;
+  double noise_max = 5.0;
+  double blur_max = 1.0;
+  int width = 640, height = 480;
+  bool distortion = true;
+  std::string csv;       // per-frame errors, optional
+  bool require = false;  // exit 1 unless yaw RMS <= 0.02 deg and offset RMS <= 1 mm
+  double yaw_rms_limit_deg = 0.02;
+  double offset_rms_limit_m = 0.001;
+};
+int run_accuracy(const AccuracyOptions& o);
+
+}  // namespace ceilnav::app

@@ -1,0 +1,24 @@
+// The built-in scene of `ceilnav demo` and `ceilnav render`: a camera on a robot
+// driving down a taped corridor (gaps, a T-branch), weaving left and right.
+#pragma once
+
+#include <vector>
+
+#include "golden/renderer.hpp"
+#include "golden/scene.hpp"
+#include "host/camera_config.hpp"
+
+namespace ceilnav::app {
+
+host::CameraConfig default_camera();
+golden::CeilingScene default_corridor(const host::CameraConfig& camera);
+golden::RenderParams default_render_params();
+
+struct DrivePose {
+  golden::CameraPose pose;
+  double odometry_m = 0.0;  // distance travelled since the previous frame
+};
+// `frames` poses, `step_m` apart along X, lateral offset and yaw weaving.
+std::vector<DrivePose> default_drive(int frames, double step_m = 0.4);
+
+}  // namespace ceilnav::app

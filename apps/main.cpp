@@ -1,0 +1,107 @@
+// ceilnav: the command-line program. `ceilnav --help` lists the commands.
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "apps/commands.hpp"
+#include "apps/frame_io.hpp"
+#include "host/camera_config_io.hpp"
+#include "stream/version.hpp"
+
+int main(int argc, char** argv) {
+  using namespace ceilnav::app;
+  CLI::App app{"ceilnav: a ceiling-vision navigation device, modelled bit for bit"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", ceilnav::version_string());
+
+  DemoOptions demo;
+  auto* demo_cmd = app.add_subcommand(
+      "demo",
+      "Render a drive down a taped corridor, run every frame through the device model "
+      "and the host, print the errors against truth, write CSV and an overlay PNG");
+  demo_cmd->add_option("--out", demo.out_dir, "Output folder (created)")->capture_default_str();
+  demo_cmd->add_option("--frames", demo.frames, "Frames in the drive")
+      ->check(CLI::Range(2, 100000))
+      ->capture_default_str();
+  demo_cmd->add_flag("--clocked", demo.clocked,
+                     "Stream frames through the cycle-level model (random gaps, back-pressure)");
+
+  RunOptions run;
+  auto* run_cmd = app.add_subcommand(
+      "run", "Process every PNG of a folder (name order) and write one CSV row per frame");
+  run_cmd->add_option("--frames", run.frames_dir, "Folder of PNG frames")->required();
+  run_cmd->add_option("--scene", run.scene_file, "Scene/camera YAML (OpenCV FileStorage)")
+      ->required();
+  run_cmd->add_option("--out", run.out_csv, "Results CSV (written whole or not at all)")
+      ->required();
+  run_cmd->add_flag("--clocked", run.clocked, "Use the cycle-level model instead of the fast path");
+  run_cmd
+      ->add_option("--gap-probability", run.gap_probability,
+                   "Clocked: probability of a tvalid gap per cycle")
+      ->check(CLI::Range(0.0, 0.99));
+  run_cmd
+      ->add_option("--backpressure-probability", run.backpressure_probability,
+                   "Clocked: probability of tready low on the run stream per cycle")
+      ->check(CLI::Range(0.0, 0.99));
+  run_cmd->add_option("--seed", run.seed, "Clocked: seed of the gap/back-pressure pattern");
+
+  RenderOptions render;
+  auto* render_cmd = app.add_subcommand(
+      "render", "Render frames with known pose: PNGs, truth.csv and scene.yaml into a folder");
+  render_cmd->add_option("--out", render.out_dir, "Output folder (created)")->required();
+  render_cmd->add_option("--frames", render.frames, "Number of frames")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  render_cmd->add_flag("--random-poses", render.random_poses,
+                       "Random yaw (+-15 deg) and offset (+-0.5 m) over one tape, instead of the "
+                       "demo drive");
+  render_cmd->add_option("--seed", render.seed, "Random seed")->capture_default_str();
+  render_cmd->add_option("--noise", render.noise_sigma, "Noise sigma, grey levels");
+  render_cmd->add_option("--blur", render.blur_sigma, "Blur sigma, pixels");
+  render_cmd->add_option("--pitch-deg", render.pitch_deg, "Camera pitch")
+      ->check(CLI::Range(1.0, 90.0))
+      ->capture_default_str();
+  render_cmd->add_option("--width", render.width, "Image width")->check(CLI::Range(16, 2048));
+  render_cmd->add_option("--height", render.height, "Image height")->check(CLI::Range(16, 2048));
+  render_cmd->add_flag("!--no-distortion", render.distortion, "Render without lens distortion");
+
+  AccuracyOptions acc;
+  auto* acc_cmd = app.add_subcommand(
+      "accuracy", "Accuracy benchmark: random poses rendered and estimated, RMS errors vs truth");
+  acc_cmd->add_option("--frames", acc.frames, "Number of random frames")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  acc_cmd->add_option("--seed", acc.seed, "Random seed")->capture_default_str();
+  acc_cmd->add_option("--pitch-min", acc.pitch_min_deg, "Degrees")->capture_default_str();
+  acc_cmd->add_option("--pitch-max", acc.pitch_max_deg, "Degrees")->capture_default_str();
+  acc_cmd->add_option("--yaw-max", acc.yaw_max_deg, "Degrees")->capture_default_str();
+  acc_cmd->add_option("--offset-max", acc.offset_max_m, "Metres")->capture_default_str();
+  acc_cmd->add_option("--noise-max", acc.noise_max, "Noise sigma, grey levels")
+      ->capture_default_str();
+  acc_cmd->add_option("--blur-max", acc.blur_max, "Blur sigma, pixels")->capture_default_str();
+  acc_cmd->add_option("--width", acc.width, "Image width")->check(CLI::Range(16, 2048));
+  acc_cmd->add_option("--height", acc.height, "Image height")->check(CLI::Range(16, 2048));
+  acc_cmd->add_flag("!--no-distortion", acc.distortion, "Render without lens distortion");
+  acc_cmd->add_option("--csv", acc.csv, "Per-frame errors to this CSV");
+  acc_cmd->add_flag("--require", acc.require,
+                    "Exit 1 unless yaw RMS <= 0.02 deg, offset RMS <= 1 mm and every frame ok");
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*demo_cmd) return run_demo(demo);
+    if (*run_cmd) return run_frames(run);
+    if (*render_cmd) return run_render(render);
+    if (*acc_cmd) return run_accuracy(acc);
+  } catch (const ceilnav::host::ConfigError& e) {
+    std::cerr << "ceilnav: scene error: " << e.what() << '\n';
+    return 1;
+  } catch (const InputError& e) {
+    std::cerr << "ceilnav: input error: " << e.what() << '\n';
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "ceilnav: error: " << e.what() << '\n';
+    return 1;
+  }
+  return 2;
+}

@@ -1,0 +1,22 @@
+// The results table of `ceilnav run` and `ceilnav demo`: one row per frame.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include "host/navigator.hpp"
+
+namespace ceilnav::app {
+
+// Columns: frame,status,yaw_rad,offset_m,pitch_rad,vp_u,vp_v,pitch_est_rad,
+// points_used,residual_px,threshold,passes,zenith_yaw_rad,zenith_offset_m.
+// A value that does not exist for the frame (failed status, vanishing point at
+// infinity, no pitch estimate, not a zenith camera) is an empty field, never NaN.
+void write_results_header(std::ostream& out);
+void write_results_row(std::ostream& out, const std::string& frame_name,
+                       const host::FrameOutcome& outcome);
+
+// The status word of a frame: "ok" or the reason.
+std::string frame_status(const host::FrameOutcome& outcome);
+
+}  // namespace ceilnav::app

@@ -1,0 +1,124 @@
+#!/usr/bin/env bash
+# End-to-end tests of the ceilnav program: every command's --help, a render ->
+# run round trip checked against truth, and every bad input (message, non-zero
+# exit, no output file left behind). Closing line: "N passed, N failed".
+set -u
+CEILNAV=${CEILNAV:?set CEILNAV to the ceilnav binary}
+here=$(cd "$(dirname "$0")" && pwd)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+
+ok() { passed=$((passed + 1)); echo "PASS $1"; }
+bad() { failed=$((failed + 1)); echo "FAIL $1"; [ -n "${2:-}" ] && echo "  $2"; }
+
+# expect_error NAME PATTERN OUTFILE -- ARGS...: non-zero exit, stderr matches
+# PATTERN, OUTFILE does not exist afterwards.
+expect_error() {
+  local name=$1 pattern=$2 outfile=$3
+  shift 4
+  local err
+  err=$("$CEILNAV" "$@" 2>&1 >/dev/null)
+  local rc=$?
+  if [ $rc -eq 0 ]; then bad "$name" "exit code 0"; return; fi
+  if ! grep -qiE -- "$pattern" <<<"$err"; then bad "$name" "message '$err' lacks /$pattern/"; return; fi
+  if [ -n "$outfile" ] && [ -e "$outfile" ]; then bad "$name" "left $outfile behind"; return; fi
+  if [ -n "$outfile" ] && ls -a "$(dirname "$outfile")" 2>/dev/null | grep -q '\.tmp$'; then
+    bad "$name" "left a temporary file"; return
+  fi
+  ok "$name"
+}
+
+for cmd in "" demo run render accuracy; do
+  if $CEILNAV $cmd --help >"$work/help.txt" 2>&1 && grep -q -- "--" "$work/help.txt"; then
+    ok "help ${cmd:-top}"
+  else
+    bad "help ${cmd:-top}"
+  fi
+done
+
+# A good data set: rendered frames with known pose.
+frames=$work/frames
+if $CEILNAV render --out "$frames" --frames 6 --random-poses --seed 7 >/dev/null 2>&1; then
+  ok "render"
+else
+  bad "render"
+fi
+out=$work/out.csv
+if $CEILNAV run --frames "$frames" --scene "$frames/scene.yaml" --out "$out" 2>"$work/run.err"; then
+  ok "run exit 0"
+else
+  bad "run exit 0" "$(cat "$work/run.err")"
+fi
+header=$(head -1 "$out" 2>/dev/null)
+for col in frame status yaw_rad offset_m pitch_rad vp_u vp_v; do
+  if tr ',' '\n' <<<"$header" | grep -qx "$col"; then ok "column $col"; else bad "column $col"; fi
+done
+rows=$(($(wc -l <"$out") - 1))
+[ "$rows" -eq 6 ] && ok "one row per frame" || bad "one row per frame" "rows=$rows"
+# Compare yaw and offset with truth.csv, frame by frame (name order).
+if join -t, <(tail -n +2 "$out" | cut -d, -f1-4 | sort) <(tail -n +2 "$frames/truth.csv" | cut -d, -f1-3 | sort) |
+  awk -F, '{ if ($2 != "ok") exit 1; dy = $3 - $5; do_ = $4 - $6; if (dy < 0) dy = -dy; if (do_ < 0) do_ = -do_;
+             if (dy > 0.0035 || do_ > 0.01) exit 1; n++ } END { exit n == 6 ? 0 : 1 }'; then
+  ok "run matches truth (yaw < 0.2 deg, offset < 10 mm)"
+else
+  bad "run matches truth"
+fi
+if ! grep -qi nan "$out"; then ok "no NaN in CSV"; else bad "no NaN in CSV"; fi
+
+# Clocked model gives the same CSV as the fast path.
+if $CEILNAV run --frames "$frames" --scene "$frames/scene.yaml" --out "$work/clocked.csv" --clocked \
+  --gap-probability 0.2 --backpressure-probability 0.5 --seed 3 2>/dev/null && cmp -s "$out" "$work/clocked.csv"; then
+  ok "clocked == fast CSV"
+else
+  bad "clocked == fast CSV"
+fi
+
+# ---- bad inputs
+o=$work/never.csv
+expect_error "missing frames folder" "does not exist" "$o" -- run --frames "$work/nope" --scene "$frames/scene.yaml" --out "$o"
+expect_error "frames is a file" "not a folder" "$o" -- run --frames "$frames/scene.yaml" --scene "$frames/scene.yaml" --out "$o"
+mkdir -p "$work/empty"
+expect_error "empty folder" "no PNG" "$o" -- run --frames "$work/empty" --scene "$frames/scene.yaml" --out "$o"
+
+mkdir -p "$work/corrupt"; cp "$frames"/frame_000[0-2].png "$work/corrupt/"
+head -c 200 /dev/urandom >"$work/corrupt/frame_0001.png"
+expect_error "corrupt PNG" "cannot decode" "$o" -- run --frames "$work/corrupt" --scene "$frames/scene.yaml" --out "$o"
+
+mkdir -p "$work/trunc"; cp "$frames"/frame_000[0-2].png "$work/trunc/"
+head -c 3000 "$frames/frame_0003.png" >"$work/trunc/frame_0002.png"
+expect_error "truncated PNG" "cannot decode" "$o" -- run --frames "$work/trunc" --scene "$frames/scene.yaml" --out "$o"
+
+mkdir -p "$work/small"
+$CEILNAV render --out "$work/small" --frames 1 --width 320 --height 240 >/dev/null 2>&1
+expect_error "mis-sized frame" "320x240 but the scene says 640x480" "$o" -- run --frames "$work/small" --scene "$frames/scene.yaml" --out "$o"
+
+mkdir -p "$work/deep"; cp "$here/data/grey16.png" "$work/deep/"
+expect_error "16-bit frame" "16-bit" "$o" -- run --frames "$work/deep" --scene "$frames/scene.yaml" --out "$o"
+
+# Scene files: garbage, missing key, mistyped key, out of range, missing file.
+printf 'this: is: not: yaml: [\n' >"$work/garbage.yaml"
+expect_error "garbage YAML" "garbage.yaml" "$o" -- run --frames "$frames" --scene "$work/garbage.yaml" --out "$o"
+grep -v '^tape_width_m' "$frames/scene.yaml" >"$work/nokey.yaml"
+expect_error "missing YAML key" "tape_width_m" "$o" -- run --frames "$frames" --scene "$work/nokey.yaml" --out "$o"
+sed 's/^camera_height_m:.*/camera_height_m: "high"/' "$frames/scene.yaml" >"$work/typo.yaml"
+expect_error "mistyped YAML key" "camera_height_m" "$o" -- run --frames "$frames" --scene "$work/typo.yaml" --out "$o"
+sed 's/^camera_pitch_deg:.*/camera_pitch_deg: 120./' "$frames/scene.yaml" >"$work/range.yaml"
+expect_error "out-of-range pitch" "camera_pitch_deg" "$o" -- run --frames "$frames" --scene "$work/range.yaml" --out "$o"
+expect_error "missing scene file" "nothere.yaml" "$o" -- run --frames "$frames" --scene "$work/nothere.yaml" --out "$o"
+: >"$work/empty.yaml"
+expect_error "empty scene file" "empty.yaml" "$o" -- run --frames "$frames" --scene "$work/empty.yaml" --out "$o"
+
+# Unwritable output: folder missing, output is a folder, parent is a file.
+expect_error "output folder missing" "does not exist" "$work/nodir/out.csv" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$work/nodir/out.csv"
+expect_error "output is a folder" "is a folder" "" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$work/empty"
+expect_error "output under a file" "cannot write" "" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$frames/scene.yaml/out.csv"
+
+# Arguments.
+expect_error "unknown command" "" "" -- fly
+expect_error "missing --scene" "scene" "" -- run --frames "$frames" --out "$o"
+expect_error "bad --frames number" "frames" "" -- demo --frames 1 --out "$work/d"
+
+echo "cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,26 @@
+// Golden reference of the whole pipeline for one well-formed frame:
+// cv::LUT -> cv::calcHist, cv::moments, the reference run finder.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "stream/config.hpp"
+#include "stream/results.hpp"
+#include "stream/run_record.hpp"
+
+namespace ceilnav::golden {
+
+struct PipelineRef {
+  stream::HistogramResults histogram;
+  stream::MomentResults moments;
+  std::vector<stream::RunRecord> runs;  // in stream order
+  uint32_t runs_dropped_row_limit = 0;
+};
+
+// grey: CV_8UC1 of cfg.width x cfg.height; cfg is the active configuration.
+PipelineRef pipeline_ref(const cv::Mat& grey, const stream::PipelineConfig& cfg);
+
+}  // namespace ceilnav::golden

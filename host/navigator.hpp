@@ -1,0 +1,75 @@
+// The host's per-frame loop on the device model: program the threshold LUT from
+// the histogram, stream the frame through the pipeline, collect the runs and
+// turn them into a pose.
+//
+// Threshold policy (a camera stream changes slowly): each frame is processed
+// with the settings chosen from the previous frame's histogram. If this frame's
+// own histogram asks for a threshold that differs by more than
+// `threshold_tolerance_grey` (or on the first frame), the frame is processed
+// again with the new settings — a second pass, counted in FrameOutcome::passes.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "host/auto_threshold.hpp"
+#include "host/camera_config.hpp"
+#include "host/camera_model.hpp"
+#include "host/tape_pose.hpp"
+#include "stream/pipeline.hpp"
+
+namespace ceilnav::host {
+
+struct NavigatorOptions {
+  ThresholdOptions threshold;
+  TapePoseOptions pose;
+  int threshold_tolerance_grey = 4;  // tunable: re-run a frame when the threshold moves more
+  uint16_t min_run_length = 2;       // tunable: single-pixel runs are noise
+  uint16_t max_runs_per_row = 16;
+  uint32_t fifo_depth = 1024;
+  // Cycle-level mode: stream the frame beat by beat through the clocked model
+  // with random tvalid gaps and m_axis_runs back-pressure (probabilities in
+  // [0, 1)); false: the frame-at-a-time fast path (bit-identical results).
+  bool clocked = false;
+  double gap_probability = 0.0;
+  double backpressure_probability = 0.0;
+  uint64_t seed = 1;
+};
+
+struct FrameOutcome {
+  stream::FrameResults results;         // the device's result registers for the frame
+  std::vector<stream::RunRecord> runs;  // the runs read from the run stream
+  ThresholdSettings settings;           // settings the frame was processed with
+  int passes = 0;                       // 1, or 2 when the threshold was re-chosen
+  uint64_t cycles = 0;                  // clocked mode: clock cycles spent on the frame
+  TapePose pose;                        // the centre-line method (every pitch)
+  std::optional<TapePose> zenith;       // the moments method, when the pitch is 90 deg
+};
+
+class Navigator {
+ public:
+  Navigator(const CameraConfig& camera, const NavigatorOptions& options = {});
+
+  // `grey` must be CV_8UC1 of the configured size (std::invalid_argument otherwise).
+  FrameOutcome process(const cv::Mat& grey);
+
+  const CameraConfig& camera() const { return camera_; }
+  const CameraModel& camera_model() const { return model_; }
+  const NavigatorOptions& options() const { return options_; }
+
+ private:
+  stream::FrameResults run_pipeline(const cv::Mat& grey, const ThresholdSettings& s,
+                                    std::vector<stream::RunRecord>& runs, uint64_t& cycles);
+
+  CameraConfig camera_;
+  CameraModel model_;
+  NavigatorOptions options_;
+  stream::Pipeline pipeline_;
+  std::optional<ThresholdSettings> previous_;
+  uint64_t rng_state_;
+};
+
+}  // namespace ceilnav::host

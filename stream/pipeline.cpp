@@ -1,0 +1,185 @@
+#include "stream/pipeline.hpp"
+
+#include <stdexcept>
+
+namespace ceilnav::stream {
+
+Pipeline::Pipeline(uint32_t run_fifo_depth) : runs_(run_fifo_depth) {
+  set_config(shadow_);
+  lut_.commit_at_frame_start();
+  build_tables();
+  reset();
+}
+
+void Pipeline::reset() {
+  fc_.reset();
+  lut_.reset();
+  hist_.reset();
+  mom_.reset();
+  runs_.reset();
+  cfg_fc_ = stage_config(shadow_);
+  cfg_lut_ = cfg_fc_;
+  cycle_q_ = 0;
+  sof_cycle_q_ = 0;
+  meta_fc_q_ = {};
+  meta_lut_q_ = {};
+  hist_accept_q_ = false;
+  staged_hist_q_ = {};
+  staged_runs_q_ = {};
+  staged_meta_q_ = {};
+  results_q_ = {};
+  frame_done_q_ = false;
+}
+
+void Pipeline::set_config(const PipelineConfig& cfg) {
+  shadow_ = cfg;
+  for (unsigned g = 0; g < 256; ++g) {
+    lut_.write(static_cast<uint8_t>(g), cfg.lut[g]);
+  }
+}
+
+void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready) {
+  // Every block samples the pre-edge outputs of the block before it.
+  const PixelBeat fc_out = fc_.m_pix();
+  const LutBeat lut_out = lut_.m_lut();
+  const bool video_sof = s_axis_video.tvalid && s_axis_video.tuser;
+
+  // ---- Stage 3: histogram, moment_gen, run_scanner (all sample lut_out).
+  const uint32_t overruns_before = mom_.overrun_count();
+  hist_.clock(lut_out, cfg_lut_.hist_source_remap);
+  mom_.clock(lut_out);
+  runs_.set_active_config(cfg_lut_.runs);
+  runs_.clock(lut_out, m_axis_runs_tready);
+
+  // Result registers. moment_gen is the last to finish a frame (kCombineCycles
+  // after its EOF pixel); the histogram and run stats of the same frame were
+  // staged when they finished, and nothing overwrites them before: a frame
+  // ending earlier than that is dropped by moment_gen and not staged.
+  frame_done_q_ = mom_.done();
+  if (mom_.done()) {
+    results_q_.frame_index = staged_meta_q_.frame_index;
+    results_q_.valid = true;
+    results_q_.histogram = staged_hist_q_;
+    results_q_.moments = mom_.results();
+    results_q_.run_stats = staged_runs_q_;
+    results_q_.errors = staged_meta_q_.errors;
+    results_q_.cycles_in_frame = staged_meta_q_.cycles_in_frame;
+  }
+  if (hist_.done() && hist_accept_q_) {
+    staged_hist_q_ = hist_.results();
+  }
+  hist_accept_q_ = false;
+  if (lut_out.pix.valid && lut_out.pix.eof && mom_.overrun_count() == overruns_before) {
+    staged_runs_q_ = runs_.last_frame_stats();
+    staged_meta_q_ = meta_lut_q_;
+    hist_accept_q_ = true;
+  }
+
+  // ---- Stage 2: thresh_lut. The bank swap rides on frame_check's SOF edge.
+  lut_.clock(fc_out, video_sof);
+  if (fc_out.valid && fc_out.sof) {
+    cfg_lut_ = cfg_fc_;
+  }
+  if (fc_out.valid && fc_out.eof) {
+    meta_lut_q_ = meta_fc_q_;
+  }
+
+  // ---- Stage 1: frame_check, with the shadow -> active copy at the SOF beat.
+  fc_.clock(s_axis_video, shadow_.width, shadow_.height);
+  if (video_sof) {
+    cfg_fc_ = stage_config(shadow_);
+  }
+  const PixelBeat& pix = fc_.m_pix();
+  if (pix.valid && pix.sof) {
+    sof_cycle_q_ = cycle_q_;
+  }
+  if (pix.valid && pix.eof) {
+    meta_fc_q_.frame_index = fc_.counters().frames_ok - 1;
+    meta_fc_q_.errors = fc_.counters();
+    meta_fc_q_.cycles_in_frame = cycle_q_ - sof_cycle_q_ + 1;
+  }
+  ++cycle_q_;
+}
+
+void Pipeline::build_tables() {
+  const auto& table = lut_.active_table();
+  for (unsigned g = 0; g < 256; ++g) {
+    remap_table_[g] = static_cast<uint8_t>(table[g] & kLutRemapMask);
+    mask_table_[g] = (table[g] & kLutMaskBit) != 0 ? 1 : 0;
+  }
+}
+
+FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
+                                     size_t stride_bytes, std::vector<RunRecord>* runs_out) {
+  if (width != shadow_.width || height != shadow_.height || width < 1 || height < 1) {
+    throw std::invalid_argument("Pipeline::process_frame: image size differs from the config");
+  }
+  if (fc_.state() == FrameCheck::State::kInFrame || fc_.m_pix().valid || lut_.m_lut().pix.valid ||
+      mom_.combine_busy() || hist_accept_q_ || runs_.fifo_occupancy() != 0) {
+    throw std::logic_error("Pipeline::process_frame: the clocked pipeline is not idle");
+  }
+  // The SOF: shadow -> active.
+  const bool swapped = lut_.commit_pending();
+  lut_.commit_at_frame_start();
+  if (swapped) {
+    build_tables();
+  }
+  cfg_fc_ = stage_config(shadow_);
+  cfg_lut_ = cfg_fc_;
+  const bool hist_remap = cfg_lut_.hist_source_remap;
+
+  const auto w = static_cast<uint32_t>(width);
+  remap_row_.resize(w);
+  mask_row_.resize(w);
+  std::array<uint32_t, Histogram::kBins> bins{};
+  MomentGen::FrameSums sums;
+  std::vector<RunRecord> local_runs;
+  std::vector<RunRecord>& runs = runs_out != nullptr ? *runs_out : local_runs;
+  runs.clear();
+  RunStats stats;
+  bool run_at_eof = false;
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* row = grey + static_cast<size_t>(y) * stride_bytes;
+    for (uint32_t x = 0; x < w; ++x) {
+      remap_row_[x] = remap_table_[row[x]];
+      mask_row_[x] = mask_table_[row[x]];
+    }
+    const uint8_t* hist_row = hist_remap ? remap_row_.data() : row;
+    for (uint32_t x = 0; x < w; ++x) {
+      ++bins[hist_row[x]];
+    }
+    MomentGen::accumulate_row(sums, static_cast<uint32_t>(y), remap_row_.data(), mask_row_.data(),
+                              w);
+    const size_t first_new = runs.size();
+    RunScanner::scan_row(cfg_lut_.runs, static_cast<uint16_t>(y), remap_row_.data(),
+                         mask_row_.data(), w, runs, stats.runs_dropped_row_limit);
+    // A run is pushed on its right-margin pixel, or on its last pixel at the
+    // EOL: only a run reaching the end of the last row shares the EOF edge.
+    if (y == height - 1 && runs.size() > first_new && runs.back().x_end + 2u >= w) {
+      run_at_eof = true;
+    }
+  }
+  stats.runs_emitted = static_cast<uint32_t>(runs.size());
+  // The high-water mark is the occupancy after each pixel's edge. With
+  // tready = 1 and an empty FIFO at the SOF, the FIFO pops one entry per cycle
+  // and takes at most one run per cycle before the EOF edge, so it holds at
+  // most 1 entry after any edge before the EOF, where the trailer and
+  // possibly a last run are written: the peak is at the EOF edge.
+  stats.fifo_high_water = run_at_eof ? 2u : 1u;
+
+  fc_.process_frame(shadow_.width, shadow_.height);
+  hist_.publish_frame(bins);
+  FrameResults r;
+  r.frame_index = fc_.counters().frames_ok - 1;
+  r.valid = true;
+  r.histogram = hist_.results();
+  r.moments = MomentGen::finish(sums);
+  r.run_stats = stats;
+  r.errors = fc_.counters();
+  r.cycles_in_frame = uint64_t{w} * static_cast<uint64_t>(height);
+  results_q_ = r;
+  frame_done_q_ = false;
+  return r;
+}
+
+}  // namespace ceilnav::stream

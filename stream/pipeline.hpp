@@ -1,0 +1,130 @@
+// The pipeline top: frame_check -> thresh_lut -> {histogram, moment_gen,
+// run_scanner}, the shadow/active configuration, the double-buffered frame
+// result registers and the frame_done interrupt source.
+// See docs/blocks/pipeline.md.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "stream/beat.hpp"
+#include "stream/config.hpp"
+#include "stream/frame_check.hpp"
+#include "stream/histogram.hpp"
+#include "stream/moment_gen.hpp"
+#include "stream/results.hpp"
+#include "stream/run_record.hpp"
+#include "stream/run_scanner.hpp"
+#include "stream/thresh_lut.hpp"
+
+namespace ceilnav::stream {
+
+// The result registers of one frame, as the host reads them after frame_done.
+struct FrameResults {
+  uint32_t frame_index = 0;  // frames_ok - 1 at this frame's end: 0-based count of good frames
+  bool valid = false;        // false until the first frame is published after reset
+  HistogramResults histogram;
+  MomentResults moments;
+  RunStats run_stats;
+  FrameErrorCounters errors;     // frame_check's counters as of this frame's EOF pixel
+  uint64_t cycles_in_frame = 0;  // clock cycles from the SOF pixel to the EOF pixel, inclusive
+  friend bool operator==(const FrameResults&, const FrameResults&) = default;
+};
+
+class Pipeline {
+ public:
+  // Pipeline registers between the EOF beat on s_axis_video and frame_done:
+  // frame_check (1) + thresh_lut (1) + moment_gen combine (kCombineCycles).
+  static constexpr int kEofToFrameDoneCycles = 2 + MomentGen::kCombineCycles;
+
+  explicit Pipeline(uint32_t run_fifo_depth = RunScanner::kDefaultFifoDepth);
+
+  // Asynchronous active-low reset of every register (not of the LUT BRAM nor
+  // of the shadow configuration, which the host owns).
+  void reset();
+
+  // Host: writes the shadow configuration, including all 256 LUT entries; the
+  // whole of it becomes active at the next SOF beat on s_axis_video.
+  void set_config(const PipelineConfig& cfg);
+  const PipelineConfig& shadow_config() const { return shadow_; }
+
+  // One rising clock edge. s_axis_video_tready is always 1.
+  void clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready);
+
+  // Registered outputs.
+  RunBeat m_axis_runs() const { return runs_.m_axis_runs(); }
+  // One-cycle pulse, high in the cycle in which results() first shows the
+  // new frame (the interrupt source: the register block latches it).
+  bool frame_done() const { return frame_done_q_; }
+  const FrameResults& results() const { return results_q_; }
+  const FrameErrorCounters& error_counters() const { return fc_.counters(); }
+  // Good frames whose results were not published because they ended while
+  // moment_gen was still combining the previous frame (saturating).
+  uint32_t frames_overrun() const { return mom_.overrun_count(); }
+  uint32_t run_trailers_lost() const { return runs_.trailers_lost(); }
+  uint32_t run_fifo_occupancy() const { return runs_.fifo_occupancy(); }
+
+  // Fast path: one well-formed frame of width x height (must equal the
+  // configuration that becomes active), processed as clock() would after the
+  // shadow -> active copy of its SOF. Returns the published results (and
+  // updates results()); the runs go to *runs_out (if given) in stream order,
+  // not into the FIFO, and without the trailer. Equal to the clocked path
+  // when the pipeline is idle before the frame (no frame open, FIFO empty,
+  // results published) and m_axis_runs_tready = 1 with a FIFO of >= 3
+  // entries. Throws std::invalid_argument on a geometry mismatch and
+  // std::logic_error when the pipeline is not idle.
+  FrameResults process_frame(const uint8_t* grey, int width, int height, size_t stride_bytes,
+                             std::vector<RunRecord>* runs_out);
+
+ private:
+  // Configuration fields that travel down the pipeline with the SOF.
+  struct StageConfig {
+    RunScanConfig runs;
+    bool hist_source_remap = false;
+  };
+  // What the result registers take from the frame_check side, carried two
+  // stages to the point where the frame reaches histogram/moment/run.
+  struct FrameMeta {
+    uint32_t frame_index = 0;
+    FrameErrorCounters errors;
+    uint64_t cycles_in_frame = 0;
+  };
+
+  static StageConfig stage_config(const PipelineConfig& cfg) {
+    return {RunScanConfig::from(cfg), cfg.hist_source_remap};
+  }
+  void build_tables();
+
+  PipelineConfig shadow_;  // host-written
+
+  FrameCheck fc_;
+  ThreshLut lut_;
+  Histogram hist_;
+  MomentGen mom_;
+  RunScanner runs_;
+
+  StageConfig cfg_fc_{};   // latched with the SOF beat by frame_check
+  StageConfig cfg_lut_{};  // latched when the SOF pixel enters thresh_lut
+
+  uint64_t cycle_q_ = 0;      // free-running cycle counter
+  uint64_t sof_cycle_q_ = 0;  // cycle of the open frame's SOF pixel
+  FrameMeta meta_fc_q_{};     // frame_check's EOF pixel (its output stage)
+  FrameMeta meta_lut_q_{};    // thresh_lut's output stage
+
+  bool hist_accept_q_ = false;  // the frame that ended on the last edge will be published
+  HistogramResults staged_hist_q_{};
+  RunStats staged_runs_q_{};
+  FrameMeta staged_meta_q_{};
+
+  FrameResults results_q_{};
+  bool frame_done_q_ = false;
+
+  // Fast path scratch (no hardware meaning).
+  std::array<uint8_t, 256> remap_table_{};
+  std::array<uint8_t, 256> mask_table_{};
+  std::vector<uint8_t> remap_row_;
+  std::vector<uint8_t> mask_row_;
+};
+
+}  // namespace ceilnav::stream

@@ -1,0 +1,114 @@
+// run_scanner: per row, runs of mask = 1 with intensity sums for a sub-pixel
+// centre, through a FIFO onto an AXI4-Stream master with a per-frame trailer.
+// See docs/blocks/run_scanner.md.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "stream/beat.hpp"
+#include "stream/config.hpp"
+#include "stream/limits.hpp"
+#include "stream/results.hpp"
+#include "stream/run_record.hpp"
+
+namespace ceilnav::stream {
+
+namespace run_scanner_widths {
+
+inline constexpr uint64_t kW = kMaxWidth;
+inline constexpr uint64_t kH = kMaxHeight;
+// A run plus its margins is clipped to the line: at most W pixels.
+inline constexpr int kSumWBits = bits_for(255 * kW);                    // 19
+inline constexpr int kSumXwBits = bits_for(255 * (kW * (kW - 1) / 2));  // 29
+// Runs on one row: at most ceil(W / 2) (a run needs a following 0 or the EOL).
+inline constexpr int kRowRunCountBits = bits_for((kW + 1) / 2);           // 11
+inline constexpr int kFrameRunCountBits = bits_for(kH * ((kW + 1) / 2));  // 22
+static_assert(kSumWBits == 19 && kSumXwBits == 29);
+static_assert(kRowRunCountBits == 11 && kFrameRunCountBits == 22);
+
+}  // namespace run_scanner_widths
+
+// The configuration fields the run scanner uses (latched at the SOF pixel).
+struct RunScanConfig {
+  uint8_t background_level = 0;
+  uint16_t min_run_length = 1;
+  uint16_t max_runs_per_row = 8;
+
+  static RunScanConfig from(const PipelineConfig& c) {
+    return {c.background_level, c.min_run_length, c.max_runs_per_row};
+  }
+  friend bool operator==(const RunScanConfig&, const RunScanConfig&) = default;
+};
+
+class RunScanner {
+ public:
+  static constexpr uint32_t kDefaultFifoDepth = 1024;
+
+  // fifo_depth: entries of the run FIFO memory (>= 2; one entry is kept free
+  // for the frame's trailer).
+  explicit RunScanner(uint32_t fifo_depth = kDefaultFifoDepth);
+
+  // Asynchronous active-low reset: FIFO empty, output idle, counters zero.
+  void reset();
+
+  // Configuration input port (the pipeline's active config). Its value at the
+  // clock edge of the SOF pixel is latched and used for the whole frame.
+  void set_active_config(const RunScanConfig& cfg) { cfg_in_ = cfg; }
+  void set_active_config(const PipelineConfig& cfg) { cfg_in_ = RunScanConfig::from(cfg); }
+
+  // One rising clock edge: samples the LutBeat port and m_axis_runs_tready.
+  void clock(const LutBeat& in, bool m_axis_runs_tready);
+
+  // Registered outputs.
+  RunBeat m_axis_runs() const { return out_q_; }
+  bool done() const { return done_q_; }  // one-cycle pulse: last_frame_stats() just updated
+  const RunStats& last_frame_stats() const { return stats_q_; }  // last completed frame
+  uint32_t fifo_occupancy() const { return fifo_count_q_; }      // memory entries in use
+  uint32_t fifo_depth() const { return static_cast<uint32_t>(fifo_.size()); }
+  // Trailers lost because the FIFO was completely full at frame end (the
+  // consumer read nothing since the previous trailer took the last entry).
+  // Cumulative since reset, saturating. The next trailer that is stored
+  // carries kTrailerFifoOverflow.
+  uint32_t trailers_lost() const { return trailers_lost_q_; }
+
+  // Fast path: the runs of one row in emission order (no FIFO: infinite),
+  // as the clocked path finds them. mask bytes: nonzero = 1. Runs beyond
+  // max_runs_per_row are counted in dropped_row_limit.
+  static void scan_row(const RunScanConfig& cfg, uint16_t y, const uint8_t* remap,
+                       const uint8_t* mask, uint32_t width, std::vector<RunRecord>& runs,
+                       uint32_t& dropped_row_limit);
+
+ private:
+  struct Entry {
+    bool last = false;
+    RunRecord data{};
+  };
+  void push(const Entry& e);
+
+  RunScanConfig cfg_in_{};  // input port
+  RunScanConfig cfg_q_{};   // latched at SOF
+
+  bool frame_open_q_ = false;
+  uint16_t x_q_ = 0;  // column of the next pixel (kCoordBits)
+  uint16_t y_q_ = 0;
+  uint8_t prev_w_q_ = 0;  // w of the previous pixel on the row (left margin)
+  bool in_run_q_ = false;
+  uint16_t run_start_q_ = 0;
+  uint32_t run_sum_w_q_ = 0;   // kSumWBits
+  uint32_t run_sum_xw_q_ = 0;  // kSumXwBits
+  uint16_t row_runs_q_ = 0;    // runs of this row past min_run_length (kRowRunCountBits)
+
+  RunStats frame_q_{};  // counters of the open frame
+  RunStats stats_q_{};  // latched at the EOF of the last completed frame
+  bool done_q_ = false;
+  bool overflow_sticky_q_ = false;  // a trailer was lost: flag the next stored one
+  uint32_t trailers_lost_q_ = 0;
+
+  std::vector<Entry> fifo_;  // BRAM, two banks (even/odd address): up to 2 writes per edge
+  uint32_t fifo_head_q_ = 0;
+  uint32_t fifo_count_q_ = 0;
+  RunBeat out_q_{};  // output register of the FIFO
+};
+
+}  // namespace ceilnav::stream

@@ -1,0 +1,37 @@
+#include "stream/thresh_lut.hpp"
+
+#include "stream/limits.hpp"
+
+namespace ceilnav::stream {
+
+static_assert(ThreshLut::kEntries == (size_t{1} << kPixelBits), "one entry per grey level");
+
+void ThreshLut::reset() {
+  active_q_ = 0;
+  pending_q_ = false;
+  out_q_ = LutBeat{};
+}
+
+void ThreshLut::write(uint8_t index, LutEntry entry) {
+  bank_[active_q_ ^ 1u][index] = static_cast<LutEntry>(entry & (kLutMaskBit | kLutRemapMask));
+  pending_q_ = true;
+}
+
+void ThreshLut::clock(const PixelBeat& s_pix, bool frame_start) {
+  const LutEntry entry = s_pix.valid ? bank_[active_q_][s_pix.grey] : LutEntry{0};
+  out_q_.pix = s_pix;
+  out_q_.remap = static_cast<uint8_t>(entry & kLutRemapMask);
+  out_q_.mask = (entry & kLutMaskBit) != 0;
+  if (frame_start) {
+    commit_at_frame_start();
+  }
+}
+
+void ThreshLut::commit_at_frame_start() {
+  if (pending_q_) {
+    active_q_ ^= 1u;
+    pending_q_ = false;
+  }
+}
+
+}  // namespace ceilnav::stream
