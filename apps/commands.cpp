@@ -145,7 +145,7 @@ int run_demo(const DemoOptions& o) {
       // Ceiling height from optic flow: the tape end at a gap, tracked from the
       // previous frame, with the odometry distance (seed 000 eq. 44).
       const auto end = host::find_tape_end(r.runs, nav.camera_model(), camera, r.pose);
-      if (end && prev_end && end->y() > prev_end->y()) {
+      if (end && prev_end && end->y() < prev_end->y()) {  // features ahead move up the image
         const double motion = std::atan2(d.pose.y_m - drive[static_cast<size_t>(i - 1)].pose.y_m,
                                          d.pose.x_m - drive[static_cast<size_t>(i - 1)].pose.x_m) -
                               d.pose.yaw_rad;
@@ -306,8 +306,12 @@ int run_accuracy(const AccuracyOptions& o) {
   if (o.pitch_min_deg <= 0 || o.pitch_max_deg > 90 || o.pitch_min_deg > o.pitch_max_deg) {
     throw std::runtime_error("--pitch-min/--pitch-max must satisfy 0 < min <= max <= 90");
   }
+  if (o.ceiling_height_m > 0 && o.ceiling_height_m <= default_camera().camera_height_m) {
+    throw std::runtime_error("--ceiling-m must be above the camera height");
+  }
   std::mt19937_64 rng(o.seed);
-  const golden::CeilingScene scene = golden::single_tape_scene(0.05);
+  const double tape_width_m = o.tape_width_m > 0 ? o.tape_width_m : default_camera().tape_width_m;
+  const golden::CeilingScene scene = golden::single_tape_scene(tape_width_m);
   std::unique_ptr<AtomicFile> csv;
   if (!o.csv.empty()) {
     csv = std::make_unique<AtomicFile>(o.csv);
@@ -323,7 +327,11 @@ int run_accuracy(const AccuracyOptions& o) {
                                       o.offset_max_m, o.noise_max, o.blur_max);
     host::CameraConfig camera = scaled_camera(o.width, o.height, o.distortion);
     camera.camera_pitch_deg = s.pitch_deg;
+    camera.tape_width_m = tape_width_m;
+    if (o.ceiling_height_m > 0) camera.ceiling_height_m = o.ceiling_height_m;
     golden::RenderParams params = default_render_params();
+    if (o.tape_gain >= 0) params.tape_gain = o.tape_gain;
+    if (o.background_grey >= 0) params.background_grey = o.background_grey;
     params.noise_sigma_grey = s.noise;
     params.blur_sigma_px = s.blur;
     params.noise_seed = o.seed * 1000003u + static_cast<uint64_t>(i);

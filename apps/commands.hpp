@@ -50,8 +50,12 @@ struct AccuracyOptions {
   double blur_max = 1.0;
   int width = 640, height = 480;
   bool distortion = true;
-  std::string csv;       // per-frame errors, optional
-  bool require = false;  // exit 1 unless yaw RMS <= 0.02 deg and offset RMS <= 1 mm
+  double tape_gain = -1.0;         // < 0: the default scene's (grey * m^2)
+  double background_grey = -1.0;   // < 0: the default scene's
+  double ceiling_height_m = -1.0;  // < 0: the default camera's
+  double tape_width_m = -1.0;      // < 0: the default camera's
+  std::string csv;                 // per-frame errors, optional
+  bool require = false;            // exit 1 unless yaw RMS <= 0.02 deg and offset RMS <= 1 mm
   double yaw_rms_limit_deg = 0.02;
   double offset_rms_limit_m = 0.001;
 };

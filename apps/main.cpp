@@ -83,6 +83,10 @@ int main(int argc, char** argv) {
   acc_cmd->add_option("--width", acc.width, "Image width")->check(CLI::Range(16, 2048));
   acc_cmd->add_option("--height", acc.height, "Image height")->check(CLI::Range(16, 2048));
   acc_cmd->add_flag("!--no-distortion", acc.distortion, "Render without lens distortion");
+  acc_cmd->add_option("--tape-gain", acc.tape_gain, "Tape return: grey above background at 1 m");
+  acc_cmd->add_option("--background", acc.background_grey, "Ceiling grey level");
+  acc_cmd->add_option("--ceiling-m", acc.ceiling_height_m, "Ceiling height above the floor");
+  acc_cmd->add_option("--tape-width-m", acc.tape_width_m, "Tape width");
   acc_cmd->add_option("--csv", acc.csv, "Per-frame errors to this CSV");
   acc_cmd->add_flag("--require", acc.require,
                     "Exit 1 unless yaw RMS <= 0.02 deg, offset RMS <= 1 mm and every frame ok");

@@ -10,7 +10,7 @@
 namespace ceilnav::host {
 
 struct ThresholdOptions {
-  double noise_k = 6.0;          // tunable: threshold >= background + noise_k * sigma
+  double noise_k = 4.5;          // tunable: threshold >= background + noise_k * sigma
   double peak_fraction = 0.15;   // tunable: threshold >= background + this * (peak - background)
   double peak_quantile = 0.999;  // the peak is this quantile of the grey histogram
   double weight_noise_k = 2.0;   // tunable: background_level = background + this * sigma
