@@ -38,8 +38,11 @@ struct TapePoseOptions {
   int refine_iterations = 3;      // gather inliers / refit rounds per candidate
   bool estimate_pitch = true;     // fit the left/right edge lines for pitch_est_rad
   // Weight each run centre by its inverse noise variance sum_w^2 / sum (x - x_c)^2
-  // (bright, narrow runs count more); false: every run counts the same.
-  bool weighted_fit = true;
+  // (bright, narrow runs count more); false (default): every run counts the same.
+  // The noise-only variance ignores the threshold clipping of dim, narrow far
+  // runs, which then get too much weight where their leverage is largest; the
+  // accuracy benchmark is better unweighted (docs/results.md).
+  bool weighted_fit = false;
 };
 
 struct TapePose {
