@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "golden/pipeline_ref.hpp"
+#include "golden/renderer.hpp"
+#include "host/auto_threshold.hpp"
 #include "stream/tests/video_source.hpp"
 
 namespace ceilnav::stream {
@@ -404,6 +406,49 @@ TEST(Pipeline, FastPathThroughputReport) {
   std::printf("fast path: %.1f Mpix/s (640x480, %zu runs/frame)\n",
               frames * 640.0 * 480.0 / s / 1e6, runs.size());
   EXPECT_EQ(p.results().frame_index, static_cast<uint32_t>(frames - 1));
+}
+
+}  // namespace
+}  // namespace ceilnav::stream
+
+namespace ceilnav::stream {
+namespace {
+
+// Rendered ceiling frames (corridor with gaps, T-branch, two tapes, lens
+// distortion, noise, blur) with the host's threshold rule: clocked (gaps,
+// back-pressure) == fast == golden.
+TEST(Pipeline, ClockedEqualsFastEqualsGoldenOnRenderedFrames) {
+  std::mt19937 rng(43);
+  host::CameraConfig cam;
+  cam.image_width = 320;
+  cam.image_height = 240;
+  cam.camera_matrix = {260.0, 0.0, 160.3, 0.0, 259.0, 119.2, 0.0, 0.0, 1.0};
+  cam.distortion_coefficients = {-0.08, 0.015, 0.0, 0.0, 0.0};
+  golden::CorridorOptions corridor;
+  corridor.second_tape = true;
+  corridor.second_tape_y_m = 0.9;
+  const golden::CeilingScene scene = golden::corridor_scene(0.05, corridor);
+  for (int i = 0; i < 6; ++i) {
+    cam.camera_pitch_deg = 20.0 + 14.0 * i;
+    golden::RenderParams rp;
+    rp.noise_sigma_grey = 1.0 + i;
+    rp.noise_seed = 7u + static_cast<uint64_t>(i);
+    const cv::Mat img = golden::render_frame(cam, scene, {3.0 + 1.7 * i, 0.2, 0.1 - 0.04 * i}, rp);
+    HistogramResults hist;
+    for (int r = 0; r < img.rows; ++r) {
+      for (int c = 0; c < img.cols; ++c) ++hist.bins[img.at<uint8_t>(r, c)];
+    }
+    const host::ThresholdSettings t = host::choose_threshold(hist);
+    PipelineConfig cfg;
+    cfg.width = static_cast<uint16_t>(img.cols);
+    cfg.height = static_cast<uint16_t>(img.rows);
+    cfg.min_run_length = 2;
+    cfg.max_runs_per_row = 4;  // the T-branch row and two tapes hit the limit sometimes
+    cfg = host::apply_threshold(cfg, t);
+    const std::string what = "rendered frame " + std::to_string(i);
+    EXPECT_GT(golden::pipeline_ref(img, cfg).runs.size(), 50u) << what;  // the tapes are seen
+    check_one_frame(img, cfg, rng, 0.15, 0.5, what.c_str());
+  }
 }
 
 }  // namespace
