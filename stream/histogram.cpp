@@ -13,6 +13,7 @@ void Histogram::reset() {
   source_remap_q_ = false;
   eof_q_ = false;
   done_q_ = false;
+  rd_data_q_ = 0;
 }
 
 void Histogram::start_frame(unsigned bank) {
@@ -21,7 +22,15 @@ void Histogram::start_frame(unsigned bank) {
   frame_open_q_ = true;
 }
 
+void Histogram::clock(const LutBeat& s_lut, bool source_remap, bool rd_en, uint8_t rd_bin) {
+  // The read port samples the state before this edge.
+  const uint32_t rd_data = rd_en ? read_bin(rd_bin) : 0u;
+  clock(s_lut, source_remap);
+  rd_data_q_ = rd_data;
+}
+
 void Histogram::clock(const LutBeat& s_lut, bool source_remap) {
+  rd_data_q_ = 0;
   // Stage 2: the last read-modify-write of the finished frame has been written
   // on the previous edge; switch the result bank and pulse done.
   done_q_ = eof_q_;
@@ -83,6 +92,12 @@ void Histogram::publish_frame(const std::array<uint32_t, kBins>& bins) {
   frame_open_q_ = false;
   eof_q_ = false;
   done_q_ = false;
+  rd_data_q_ = 0;
+}
+
+uint32_t Histogram::read_bin(uint8_t bin) const {
+  const Bank& bank = bank_[disp_bank_q_];
+  return bank.valid[bin] ? bank.count[bin] : 0u;
 }
 
 HistogramResults Histogram::results() const {

@@ -32,6 +32,12 @@ class Histogram {
   // grey, true = LUT remap); it is latched on the SOF beat.
   void clock(const LutBeat& s_lut, bool source_remap);
 
+  // One rising edge with the results read port (RTL hist_rd_en_i,
+  // hist_rd_bin_i) sampled too. BRAM-style synchronous read: a read sampled on
+  // edge t returns, after edge t, read_bin(rd_bin) as it was before edge t;
+  // after an edge without a read, hist_rd_data() is 0.
+  void clock(const LutBeat& s_lut, bool source_remap, bool rd_en, uint8_t rd_bin);
+
   // Fast path: one complete frame of 8-bit values (grey or remap already
   // chosen by the caller), row stride in bytes. Leaves the block as clock()-ing
   // the frame followed by two gap cycles would (done() low again).
@@ -43,6 +49,10 @@ class Histogram {
   // the last complete (non-aborted) frame, stable until the next done().
   bool done() const { return done_q_; }
   HistogramResults results() const;
+  // One bin of results() (what the register file reads through the port).
+  uint32_t read_bin(uint8_t bin) const;
+  // Registered output of the read port (hist_rd_data_o).
+  uint32_t hist_rd_data() const { return rd_data_q_; }
 
  private:
   struct Bank {
@@ -60,6 +70,7 @@ class Histogram {
   bool source_remap_q_ = false;
   bool eof_q_ = false;  // EOF pixel sampled on the previous edge
   bool done_q_ = false;
+  uint32_t rd_data_q_ = 0;
 };
 
 }  // namespace ceilnav::stream

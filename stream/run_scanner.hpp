@@ -3,6 +3,7 @@
 // See docs/blocks/run_scanner.md.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -28,6 +29,31 @@ static_assert(kSumWBits == 19 && kSumXwBits == 29);
 static_assert(kRowRunCountBits == 11 && kFrameRunCountBits == 22);
 
 }  // namespace run_scanner_widths
+
+// m_axis_runs_tdata: the RunRecord packed into 112 bits, no field crossing a
+// 32-bit word, as the RTL port (rtl_model/run_scanner.sv) and the register
+// file carry it. words[i] = tdata[32 i + 31 : 32 i]; bits 127:112 are 0.
+//   [15:0] row (trailer: runs emitted)   [31:16] x_start (trailer: flags)
+//   [63:32] sum_w   [95:64] sum_xw   [111:96] x_end
+inline constexpr int kRunBeatBits = 112;
+using RunBeatWords = std::array<uint32_t, 4>;
+
+// Exact for every record the run scanner makes (sum_xw < 2^29, sum_w < 2^19);
+// wider sums are cut to 32 bits, which unpack_run_beat() would expose.
+constexpr RunBeatWords pack_run_beat(const RunRecord& r) {
+  return {static_cast<uint32_t>(r.row) | (static_cast<uint32_t>(r.x_start) << 16), r.sum_w,
+          static_cast<uint32_t>(r.sum_xw), static_cast<uint32_t>(r.x_end)};
+}
+
+constexpr RunRecord unpack_run_beat(const RunBeatWords& w) {
+  RunRecord r;
+  r.row = static_cast<uint16_t>(w[0] & 0xFFFFu);
+  r.x_start = static_cast<uint16_t>(w[0] >> 16);
+  r.sum_w = w[1];
+  r.sum_xw = w[2];
+  r.x_end = static_cast<uint16_t>(w[3] & 0xFFFFu);
+  return r;
+}
 
 // The configuration fields the run scanner uses (latched at the SOF pixel).
 struct RunScanConfig {
@@ -105,7 +131,7 @@ class RunScanner {
   bool overflow_sticky_q_ = false;  // a trailer was lost: flag the next stored one
   uint32_t trailers_lost_q_ = 0;
 
-  std::vector<Entry> fifo_;  // BRAM, two banks (even/odd address): up to 2 writes per edge
+  std::vector<Entry> fifo_;  // BRAM, four banks (address mod 4): up to 3 writes per edge
   uint32_t fifo_head_q_ = 0;
   uint32_t fifo_count_q_ = 0;
   RunBeat out_q_{};  // output register of the FIFO

@@ -27,6 +27,13 @@ void ThreshLut::clock(const PixelBeat& s_pix, bool frame_start) {
   }
 }
 
+void ThreshLut::clock(const PixelBeat& s_pix, bool frame_start, const LutWrite& wr) {
+  if (wr.en) {
+    write(wr.index, wr.data);
+  }
+  clock(s_pix, frame_start);
+}
+
 void ThreshLut::commit_at_frame_start() {
   if (pending_q_) {
     active_q_ ^= 1u;

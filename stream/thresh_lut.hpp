@@ -12,6 +12,14 @@
 
 namespace ceilnav::stream {
 
+// Host write port of the LUT as RTL ports (lut_wr_en_i, lut_wr_index_i,
+// lut_wr_data_i), sampled on a clock edge.
+struct LutWrite {
+  bool en = false;
+  uint8_t index = 0;
+  LutEntry data = 0;  // bits above bit 8 are ignored
+};
+
 class ThreshLut {
  public:
   static constexpr int kEntryBits = 9;
@@ -36,6 +44,11 @@ class ThreshLut {
   // commit is pending, the banks swap on that edge, so the SOF pixel is the
   // first one looked up in the new table.
   void clock(const PixelBeat& s_pix, bool frame_start);
+
+  // One rising edge with the write port sampled on the same edge (the RTL's
+  // port timing): the write lands in the shadow bank first, so a write on the
+  // commit edge is part of the table that this edge commits.
+  void clock(const PixelBeat& s_pix, bool frame_start, const LutWrite& wr);
 
   // Fast path: what the pipeline does at a frame start (swap if pending).
   void commit_at_frame_start();

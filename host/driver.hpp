@@ -1,0 +1,68 @@
+// The device driver: identification, configuration and the per-frame
+// readout, through the registers of docs/registers.md on any Bus backend.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+#include "host/bus.hpp"
+#include "stream/config.hpp"
+#include "stream/pipeline.hpp"
+#include "stream/results.hpp"
+
+namespace ceilnav::host {
+
+enum class RunSink : uint8_t {
+  kStream,     // runs arrive on m_axis_runs (Bus::take_run_stream)
+  kRegisters,  // the driver pops them through RUN_WORD0..3
+};
+
+struct DriverOptions {
+  RunSink run_sink = RunSink::kStream;
+  uint64_t irq_timeout_cycles = 100'000'000;
+  uint64_t run_timeout_cycles = 10'000'000;  // waiting for the frame's trailer
+};
+
+struct FrameReadout {
+  stream::FrameResults results;         // the result registers of the frame
+  std::vector<stream::RunRecord> runs;  // the frame's runs in stream order
+  bool trailer_seen = false;
+  uint16_t trailer_flags = 0;      // stream::RunTrailerFlags of the frame's trailer
+  uint16_t trailer_run_count = 0;  // runs emitted, as the trailer counts them (saturating)
+  uint32_t frame_count = 0;        // FRAME_COUNT at readout
+  uint32_t eof_to_irq_cycles = 0;  // EOF_TO_IRQ_CYCLES at readout
+  uint32_t intr_state = 0;         // INTR_STATE bits seen (and cleared) for this frame
+  bool consistent = true;          // RES_FRAME_INDEX unchanged across the readout
+};
+
+class Driver {
+ public:
+  explicit Driver(Bus& bus, const DriverOptions& options = {});
+
+  // Reads ID and VERSION; throws std::runtime_error if this is not a ceilnav
+  // device of the major version the driver knows. Returns the VERSION word.
+  uint32_t identify();
+
+  // Writes the whole configuration (geometry, all 256 LUT entries, scanner
+  // settings, histogram source), clears INTR_STATE, enables the FRAME_DONE
+  // interrupt and the video gate. Takes effect at the next SOF; call it
+  // between frames (after read_frame, before the next frame starts), or the
+  // LUT may change across two frames.
+  void configure(const stream::PipelineConfig& cfg);
+
+  // Waits for FRAME_DONE, acknowledges it, reads the result registers and
+  // the frame's runs. Throws std::runtime_error on a timeout.
+  FrameReadout read_frame();
+
+ private:
+  stream::FrameResults read_results();
+  void read_runs(FrameReadout& out);
+  bool next_run_entry(stream::RunBeat& beat);
+
+  Bus& bus_;
+  DriverOptions options_;
+  std::deque<stream::RunBeat> stream_backlog_;  // received beats not yet consumed
+};
+
+}  // namespace ceilnav::host

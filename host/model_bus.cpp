@@ -1,0 +1,31 @@
+#include "host/model_bus.hpp"
+
+#include <memory>
+
+namespace ceilnav::host {
+
+namespace {
+
+class ModelDevice : public SimDevice {
+ public:
+  explicit ModelDevice(uint32_t run_fifo_depth) : top_(run_fifo_depth) {}
+  void reset() override { top_.reset(); }
+  SimOutputs outputs() const override {
+    return {top_.s_axil_out(), top_.m_axis_runs(), top_.irq()};
+  }
+  void clock(const SimInputs& in) override {
+    top_.clock(in.s_axis_video, in.s_axil, in.m_axis_runs_tready);
+  }
+  const stream::CeilnavTop& top() const { return top_; }
+
+ private:
+  stream::CeilnavTop top_;
+};
+
+}  // namespace
+
+ModelBus::ModelBus(const SimBusOptions& options, uint32_t run_fifo_depth)
+    : SimBus(std::make_unique<ModelDevice>(run_fifo_depth), options),
+      top_(&static_cast<ModelDevice&>(device()).top()) {}
+
+}  // namespace ceilnav::host

@@ -1,0 +1,305 @@
+// Co-simulation: rtl_model/thresh_lut.sv against stream::ThreshLut, every
+// output port on every clock, with random pixel streams and gaps, LUT writes
+// at random times (also mid-frame and on the commit edge), frame starts with
+// zero blanking, resets, and real photos.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "stream/beat.hpp"
+#include "stream/config.hpp"
+#include "stream/tests/video_source.hpp"
+#include "stream/thresh_lut.hpp"
+#include "testbench/cosim_common.hpp"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wconversion"
+#include "Vthresh_lut.h"
+#pragma GCC diagnostic pop
+
+namespace ceilnav::testbench {
+namespace {
+
+using stream::LutEntry;
+using stream::LutWrite;
+using stream::PixelBeat;
+using stream::ThreshLut;
+using Table = std::array<LutEntry, 256>;
+
+struct LutCycle {
+  PixelBeat pix;
+  bool frame_start = false;
+  LutWrite wr;
+  bool reset = false;  // async reset pulse before this cycle's edge
+};
+
+class ThreshLutBench {
+ public:
+  ThreshLutBench(const std::string& name, uint64_t seed) : sim_(name, seed) { compare(); }
+
+  Cosim<Vthresh_lut>& sim() { return sim_; }
+  const ThreshLut& model() const { return model_; }
+
+  void step(const LutCycle& c) {
+    if (c.reset) {
+      sim_.async_reset();
+      model_.reset();
+      compare();
+    }
+    Vthresh_lut& d = sim_.dut();
+    d.s_pix_valid_i = c.pix.valid;
+    d.s_pix_grey_i = c.pix.grey;
+    d.s_pix_x_i = c.pix.x;
+    d.s_pix_y_i = c.pix.y;
+    d.s_pix_sof_i = c.pix.sof;
+    d.s_pix_eol_i = c.pix.eol;
+    d.s_pix_eof_i = c.pix.eof;
+    d.s_pix_abort_i = c.pix.abort;
+    d.frame_start_i = c.frame_start;
+    d.lut_wr_en_i = c.wr.en;
+    d.lut_wr_index_i = c.wr.index;
+    d.lut_wr_data_i = c.wr.data & 0x1FFu;  // the port is 9 bits wide
+    model_.clock(c.pix, c.frame_start, c.wr);
+    sim_.edge();
+    compare();
+  }
+
+  void run(const std::vector<LutCycle>& cycles) {
+    for (const LutCycle& c : cycles) {
+      if (sim_.failed()) {
+        return;
+      }
+      step(c);
+    }
+  }
+
+ private:
+  void compare() {
+    const Vthresh_lut& d = sim_.dut();
+    const stream::LutBeat& o = model_.m_lut();
+    sim_.check("m_lut_valid_o", d.m_lut_valid_o, o.pix.valid);
+    sim_.check("m_lut_grey_o", d.m_lut_grey_o, o.pix.grey);
+    sim_.check("m_lut_x_o", d.m_lut_x_o, o.pix.x);
+    sim_.check("m_lut_y_o", d.m_lut_y_o, o.pix.y);
+    sim_.check("m_lut_sof_o", d.m_lut_sof_o, o.pix.sof);
+    sim_.check("m_lut_eol_o", d.m_lut_eol_o, o.pix.eol);
+    sim_.check("m_lut_eof_o", d.m_lut_eof_o, o.pix.eof);
+    sim_.check("m_lut_abort_o", d.m_lut_abort_o, o.pix.abort);
+    sim_.check("m_lut_remap_o", d.m_lut_remap_o, o.remap);
+    sim_.check("m_lut_mask_o", d.m_lut_mask_o, o.mask);
+  }
+
+  Cosim<Vthresh_lut> sim_;
+  ThreshLut model_;
+};
+
+Table random_table(Rng& rng) {
+  Table t{};
+  for (LutEntry& e : t) {
+    e = rng.uniform_as<LutEntry>(0, 0x1FF);
+  }
+  return t;
+}
+
+// An idle beat; its fields are garbage half the time (they are delayed as is).
+PixelBeat idle_beat(Rng& rng) {
+  PixelBeat p;
+  if (rng.chance(0.5)) {
+    p.grey = rng.byte();
+    p.x = rng.uniform_as<uint16_t>(0, 2047);
+    p.y = rng.uniform_as<uint16_t>(0, 2047);
+    p.sof = rng.chance(0.2);
+    p.eol = rng.chance(0.2);
+    p.eof = rng.chance(0.2);
+    p.abort = rng.chance(0.1);
+  }
+  return p;
+}
+
+// Both banks hold defined contents (the RTL's BRAM powers up random): write a
+// table, commit it with a lone frame_start, write the other bank.
+void initialise_banks(ThreshLutBench& bench, Rng& rng) {
+  for (int bank = 0; bank < 2; ++bank) {
+    const Table t = random_table(rng);
+    for (unsigned g = 0; g < 256; ++g) {
+      LutCycle c;
+      c.wr = {true, static_cast<uint8_t>(g), t[g]};
+      bench.step(c);
+    }
+    LutCycle commit;
+    commit.frame_start = bank == 0;
+    bench.step(commit);
+  }
+}
+
+// Appends a frame of pixel beats. frame_start is raised on the cycle before
+// the SOF pixel (frame_check samples the SOF there), which is the previous
+// frame's last cycle with zero blanking.
+void append_frame(std::vector<LutCycle>& out, Rng& rng, int width, int height, const cv::Mat* img,
+                  double gap_prob) {
+  if (out.empty()) {
+    out.push_back({idle_beat(rng), false, {}, false});
+  }
+  out.back().frame_start = true;
+  const bool aborted = rng.chance(0.1);
+  const int64_t abort_at = rng.uniform(0, int64_t{width} * height);
+  int64_t sent = 0;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x, ++sent) {
+      while (gap_prob > 0.0 && rng.chance(gap_prob)) {
+        out.push_back({idle_beat(rng), false, {}, false});
+      }
+      if (aborted && sent == abort_at) {
+        PixelBeat a;
+        a.abort = true;
+        out.push_back({a, false, {}, false});
+        return;
+      }
+      PixelBeat p;
+      p.valid = true;
+      p.grey = img != nullptr ? img->at<uchar>(y, x) : rng.byte();
+      p.x = static_cast<uint16_t>(x);
+      p.y = static_cast<uint16_t>(y);
+      p.sof = x == 0 && y == 0;
+      p.eol = x == width - 1;
+      p.eof = p.eol && y == height - 1;
+      out.push_back({p, false, {}, false});
+    }
+  }
+}
+
+// Sprinkles host writes over cycles [from, end): a full table, a few single
+// entries, or nothing; sometimes one write lands on a frame_start cycle.
+void add_writes(std::vector<LutCycle>& cycles, size_t from, Rng& rng) {
+  if (cycles.size() <= from) {
+    return;
+  }
+  const auto pick_cycle = [&] {
+    return static_cast<size_t>(
+        rng.uniform(static_cast<int64_t>(from), static_cast<int64_t>(cycles.size() - 1)));
+  };
+  const int64_t mode = rng.uniform(0, 9);
+  int writes = 0;
+  if (mode < 3) {
+    writes = 0;
+  } else if (mode < 7) {
+    writes = static_cast<int>(rng.uniform(1, 8));
+  } else {
+    writes = 256;
+  }
+  for (int i = 0; i < writes; ++i) {
+    LutCycle& c = cycles[pick_cycle()];
+    c.wr = {true, rng.byte(), rng.uniform_as<LutEntry>(0, 0xFFFF)};  // bits 15:9 ignored
+  }
+  if (rng.chance(0.3)) {
+    for (size_t i = from; i < cycles.size(); ++i) {
+      if (cycles[i].frame_start) {
+        cycles[i].wr = {true, rng.byte(), rng.uniform_as<LutEntry>(0, 0x1FF)};
+        break;
+      }
+    }
+  }
+}
+
+void random_size(Rng& rng, int& width, int& height) {
+  const int64_t pick = rng.uniform(0, 9);
+  if (pick < 5) {
+    width = static_cast<int>(rng.uniform(1, 8));
+    height = static_cast<int>(rng.uniform(1, 8));
+  } else if (pick < 9) {
+    width = static_cast<int>(rng.uniform(1, 80));
+    height = static_cast<int>(rng.uniform(1, 60));
+  } else {
+    width = static_cast<int>(rng.uniform(1, 640));
+    height = static_cast<int>(rng.uniform(1, std::min<int64_t>(480, 40000 / width)));
+  }
+}
+
+TEST(CosimThreshLut, RandomStreamsWritesAndCommits) {
+  const uint64_t seed = cosim_seed(0x1A7E0001);
+  Rng rng(seed);
+  ThreshLutBench bench("thresh_lut_random", seed);
+  initialise_banks(bench, rng);
+  const uint64_t budget = cosim_count(1'000'000);
+  std::vector<LutCycle> cycles;
+  int commits = 0;
+  while (bench.sim().cycle() < budget && !bench.sim().failed()) {
+    int width = 1;
+    int height = 1;
+    random_size(rng, width, height);
+    append_frame(cycles, rng, width, height, nullptr, std::array{0.0, 0.05, 0.5}[rng.index(3)]);
+    const int64_t blank = rng.chance(0.5) ? 0 : rng.uniform(1, 50);
+    for (int64_t i = 0; i < blank; ++i) {
+      cycles.push_back({idle_beat(rng), rng.chance(0.01), {}, false});
+    }
+    add_writes(cycles, 1, rng);
+    if (cycles.size() > 1 && rng.chance(0.02)) {
+      cycles[1 + rng.index(cycles.size() - 1)].reset = true;
+    }
+    // The last cycle is kept: the next frame's frame_start may land on it
+    // (zero blanking).
+    const LutCycle last = cycles.back();
+    cycles.pop_back();
+    for (const LutCycle& c : cycles) {
+      if (bench.sim().failed()) {
+        break;
+      }
+      commits += (c.frame_start && (bench.model().commit_pending() || c.wr.en)) ? 1 : 0;
+      bench.step(c);
+    }
+    cycles.assign(1, last);
+  }
+  bench.sim().report();
+  EXPECT_GT(commits, 10);
+}
+
+TEST(CosimThreshLut, PhotosWithGammaAndThresholdTables) {
+  const uint64_t seed = cosim_seed(0x1A7E0002);
+  Rng rng(seed);
+  ThreshLutBench bench("thresh_lut_photos", seed);
+  initialise_banks(bench, rng);
+  int photos = 0;
+  for (const char* name : {"building.jpg", "baboon.jpg"}) {
+    const auto img = stream::test::load_photo(name, 320, 240);
+    if (!img) {
+      continue;
+    }
+    ++photos;
+    for (int variant = 0; variant < 2; ++variant) {
+      // Write a full table during the previous frame's tail; it commits at this SOF.
+      Table table{};
+      for (unsigned g = 0; g < 256; ++g) {
+        const double gamma = variant == 0 ? 0.5 : 2.2;
+        const auto remap = static_cast<uint8_t>(std::lround(255.0 * std::pow(g / 255.0, gamma)));
+        table[g] = stream::lut_entry(remap, g >= (variant == 0 ? 128u : 200u));
+      }
+      std::vector<LutCycle> cycles;
+      for (unsigned g = 0; g < 256; ++g) {
+        cycles.push_back({idle_beat(rng), false, {true, static_cast<uint8_t>(g), table[g]}, false});
+      }
+      const size_t frame_begin = cycles.size();
+      append_frame(cycles, rng, img->cols, img->rows, &*img, variant == 0 ? 0.0 : 0.1);
+      // Independent check of the committed table: remap/mask == table[grey].
+      for (size_t i = 0; i < cycles.size() && !bench.sim().failed(); ++i) {
+        bench.step(cycles[i]);
+        const Vthresh_lut& d = bench.sim().dut();
+        if (i > frame_begin && d.m_lut_valid_o &&
+            (d.m_lut_remap_o != (table[d.m_lut_grey_o] & 0xFF) ||
+             d.m_lut_mask_o != ((table[d.m_lut_grey_o] >> 8) & 1))) {
+          bench.sim().fail("RTL lookup differs from the written table");
+        }
+      }
+    }
+  }
+  ASSERT_GT(photos, 0) << "no photo found under /usr/share/doc/opencv-doc/examples/data/";
+  bench.sim().report();
+}
+
+}  // namespace
+}  // namespace ceilnav::testbench
