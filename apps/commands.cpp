@@ -20,6 +20,7 @@
 #include "apps/overlay.hpp"
 #include "apps/progress.hpp"
 #include "apps/results_csv.hpp"
+#include "apps/rtl_backend.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/camera_config_io.hpp"
@@ -64,6 +65,23 @@ void make_out_dir(const fs::path& dir) {
   check_writable(dir / "probe");
 }
 
+// fast, model, or rtl (when this build has the Verilated device).
+void configure_backend(host::NavigatorOptions& opt, const std::string& name) {
+  if (name == "fast") {
+    opt.backend = host::Backend::fast;
+  } else if (name == "model") {
+    opt.backend = host::Backend::model;
+  } else if (name == "rtl") {
+    opt.backend = host::Backend::rtl;
+    opt.bus_factory = rtl_bus_factory();
+    if (!opt.bus_factory) {
+      throw std::runtime_error("this ceilnav was built without the Verilated RTL backend");
+    }
+  } else {
+    throw std::runtime_error("unknown backend '" + name + "' (fast, model or rtl)");
+  }
+}
+
 std::string frame_name(int i) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "frame_%04d.png", i);
@@ -86,9 +104,10 @@ int run_demo(const DemoOptions& o) {
   const std::vector<DrivePose> drive = default_drive(o.frames);
 
   host::NavigatorOptions nav_opt;
-  nav_opt.clocked = o.clocked;
-  nav_opt.gap_probability = o.clocked ? 0.1 : 0.0;
-  nav_opt.backpressure_probability = o.clocked ? 0.3 : 0.0;
+  configure_backend(nav_opt, o.backend);
+  const bool bus = nav_opt.backend != host::Backend::fast;
+  nav_opt.gap_probability = bus ? 0.1 : 0.0;
+  nav_opt.backpressure_probability = bus ? 0.3 : 0.0;
   host::Navigator nav(camera, nav_opt);
 
   AtomicFile csv(out / "results.csv");
@@ -97,9 +116,9 @@ int run_demo(const DemoOptions& o) {
 
   std::printf(
       "ceilnav demo: %d frames of a drive down a taped corridor (%dx%d, pitch %.0f deg,"
-      " %s model)\n",
+      " %s)\n",
       o.frames, camera.image_width, camera.image_height, camera.camera_pitch_deg,
-      o.clocked ? "cycle-level" : "fast");
+      (o.backend + " backend").c_str());
   std::printf("%5s %-14s %9s %9s %8s %9s %9s %8s %4s\n", "frame", "status", "yaw_true", "yaw_est",
               "err_deg", "off_true", "off_est", "err_mm", "thr");
 
@@ -200,7 +219,7 @@ int run_frames(const RunOptions& o) {
   check_writable(o.out_csv);
 
   host::NavigatorOptions nav_opt;
-  nav_opt.clocked = o.clocked;
+  configure_backend(nav_opt, o.backend);
   nav_opt.gap_probability = o.gap_probability;
   nav_opt.backpressure_probability = o.backpressure_probability;
   nav_opt.seed = o.seed;

@@ -11,7 +11,7 @@ namespace ceilnav::app {
 struct DemoOptions {
   std::string out_dir = "ceilnav-demo";
   int frames = 40;
-  bool clocked = false;  // stream every frame through the cycle-level model
+  std::string backend = "fast";  // fast | model | rtl (see NavigatorOptions)
   bool quiet = false;
 };
 int run_demo(const DemoOptions& o);
@@ -20,7 +20,7 @@ struct RunOptions {
   std::string frames_dir;
   std::string scene_file;
   std::string out_csv;
-  bool clocked = false;
+  std::string backend = "fast";  // fast | model | rtl
   double gap_probability = 0.0;
   double backpressure_probability = 0.0;
   uint64_t seed = 1;

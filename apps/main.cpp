@@ -24,8 +24,12 @@ int main(int argc, char** argv) {
   demo_cmd->add_option("--frames", demo.frames, "Frames in the drive")
       ->check(CLI::Range(2, 100000))
       ->capture_default_str();
-  demo_cmd->add_flag("--clocked", demo.clocked,
-                     "Stream frames through the cycle-level model (random gaps, back-pressure)");
+  demo_cmd
+      ->add_option("--backend", demo.backend,
+                   "fast (frame at a time), model (C++ cycle-level device through its "
+                   "registers) or rtl (Verilated RTL through its registers)")
+      ->check(CLI::IsMember({"fast", "model", "rtl"}))
+      ->capture_default_str();
 
   RunOptions run;
   auto* run_cmd = app.add_subcommand(
@@ -35,16 +39,21 @@ int main(int argc, char** argv) {
       ->required();
   run_cmd->add_option("--out", run.out_csv, "Results CSV (written whole or not at all)")
       ->required();
-  run_cmd->add_flag("--clocked", run.clocked, "Use the cycle-level model instead of the fast path");
+  run_cmd
+      ->add_option("--backend", run.backend,
+                   "fast (frame at a time), model (C++ cycle-level device through its "
+                   "registers) or rtl (Verilated RTL through its registers)")
+      ->check(CLI::IsMember({"fast", "model", "rtl"}))
+      ->capture_default_str();
   run_cmd
       ->add_option("--gap-probability", run.gap_probability,
-                   "Clocked: probability of a tvalid gap per cycle")
+                   "model/rtl: probability of a tvalid gap before a pixel")
       ->check(CLI::Range(0.0, 0.99));
   run_cmd
       ->add_option("--backpressure-probability", run.backpressure_probability,
-                   "Clocked: probability of tready low on the run stream per cycle")
+                   "model/rtl: probability of tready low on the run stream per cycle")
       ->check(CLI::Range(0.0, 0.99));
-  run_cmd->add_option("--seed", run.seed, "Clocked: seed of the gap/back-pressure pattern");
+  run_cmd->add_option("--seed", run.seed, "model/rtl: seed of the gap/back-pressure pattern");
 
   RenderOptions render;
   auto* render_cmd = app.add_subcommand(

@@ -4,32 +4,28 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "host/model_bus.hpp"
+
 namespace ceilnav::host {
 
-namespace {
-
-// splitmix64: a small, fully specified generator so that a seed gives the same
-// gap/back-pressure pattern on every platform.
-uint64_t next_random(uint64_t& state) {
-  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-bool chance(uint64_t& state, double p) {
-  if (p <= 0.0) return false;
-  return static_cast<double>(next_random(state) >> 11) * 0x1.0p-53 < p;
-}
-
-}  // namespace
-
 Navigator::Navigator(const CameraConfig& camera, const NavigatorOptions& options)
-    : camera_(camera),
-      model_(camera),
-      options_(options),
-      pipeline_(options.fifo_depth),
-      rng_state_(options.seed) {}
+    : camera_(camera), model_(camera), options_(options), pipeline_(options.fifo_depth) {
+  if (options_.backend == Backend::fast) return;
+  SimBusOptions bus_opt;
+  bus_opt.seed = options_.seed;
+  bus_opt.run_tready_low_probability = options_.backpressure_probability;
+  bus_opt.axi_timing.valid_delay_probability = options_.backpressure_probability > 0 ? 0.2 : 0.0;
+  bus_opt.axi_timing.ready_low_probability = options_.backpressure_probability > 0 ? 0.2 : 0.0;
+  if (options_.bus_factory) {
+    bus_ = options_.bus_factory(bus_opt);
+  } else if (options_.backend == Backend::model) {
+    bus_ = std::make_unique<ModelBus>(bus_opt, options_.fifo_depth);
+  } else {
+    throw std::invalid_argument("navigator: the rtl backend needs a bus factory");
+  }
+  driver_ = std::make_unique<Driver>(*bus_);
+  driver_->identify();
+}
 
 stream::FrameResults Navigator::run_pipeline(const cv::Mat& grey, const ThresholdSettings& s,
                                              std::vector<stream::RunRecord>& runs,
@@ -45,42 +41,24 @@ stream::FrameResults Navigator::run_pipeline(const cv::Mat& grey, const Threshol
   runs.clear();
   cycles = 0;
 
-  if (!options_.clocked) {
+  if (options_.backend == Backend::fast) {
     return pipeline_.process_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], &runs);
   }
-
-  // Cycle-level: one beat per clock, random tvalid gaps on the video input and
-  // random tready on the run stream; runs until frame_done and the trailer.
-  bool done = false, trailer = false;
-  int x = 0, y = 0;
-  const uint64_t limit = 64ull * static_cast<uint64_t>(grey.total()) + 100000ull;
-  while (!(done && trailer)) {
-    if (cycles > limit) throw std::runtime_error("navigator: the pipeline did not finish a frame");
-    stream::VideoBeat beat;
-    if (y < grey.rows && !chance(rng_state_, options_.gap_probability)) {
-      beat.tvalid = true;
-      beat.tdata = grey.at<uint8_t>(y, x);
-      beat.tuser = x == 0 && y == 0;
-      beat.tlast = x == grey.cols - 1;
-      if (++x == grey.cols) {
-        x = 0;
-        ++y;
-      }
-    }
-    const bool tready = !chance(rng_state_, options_.backpressure_probability);
-    const stream::RunBeat out = pipeline_.m_axis_runs();
-    if (out.tvalid && tready) {
-      if (out.tlast) {
-        trailer = true;
-      } else {
-        runs.push_back(out.tdata);
-      }
-    }
-    pipeline_.clock(beat, tready);
-    ++cycles;
-    if (pipeline_.frame_done()) done = true;
+  // Through the registers: configure between frames, stream the frame in,
+  // wait for the interrupt, read results and runs.
+  driver_->configure(cfg);
+  const uint64_t start = bus_->cycles();
+  FrameFeed feed;
+  feed.gap_probability = options_.gap_probability;
+  feed.blanking_cycles = 16;
+  bus_->queue_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], feed);
+  FrameReadout r = driver_->read_frame();
+  if (!r.trailer_seen || !r.consistent) {
+    throw std::runtime_error("navigator: the device lost the frame's run trailer or results");
   }
-  return pipeline_.results();
+  runs = std::move(r.runs);
+  cycles = bus_->cycles() - start;
+  return r.results;
 }
 
 FrameOutcome Navigator::process(const cv::Mat& grey) {

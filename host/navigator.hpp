@@ -10,18 +10,25 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 #include "host/auto_threshold.hpp"
+#include "host/bus.hpp"
 #include "host/camera_config.hpp"
 #include "host/camera_model.hpp"
+#include "host/driver.hpp"
+#include "host/sim_bus.hpp"
 #include "host/tape_pose.hpp"
 #include "stream/pipeline.hpp"
 
 namespace ceilnav::host {
+
+enum class Backend { fast, model, rtl };
 
 struct NavigatorOptions {
   ThresholdOptions threshold;
@@ -30,13 +37,19 @@ struct NavigatorOptions {
   uint16_t min_run_length = 2;       // tunable: single-pixel runs are noise
   uint16_t max_runs_per_row = 16;
   uint32_t fifo_depth = 1024;
-  // Cycle-level mode: stream the frame beat by beat through the clocked model
-  // with random tvalid gaps and m_axis_runs back-pressure (probabilities in
-  // [0, 1)); false: the frame-at-a-time fast path (bit-identical results).
-  bool clocked = false;
+  // fast: the pipeline's frame-at-a-time path, no registers (the default:
+  // fastest). model / rtl: the Driver programs the device through its
+  // registers on a Bus backend — the C++ cycle-level register model
+  // (ModelBus) or the Verilated RTL (bus_factory, see apps/) — while the frame
+  // streams in beat by beat with random tvalid gaps, run-stream back-pressure
+  // and AXI-Lite stalls (probabilities in [0, 1)). Every backend gives the
+  // same results and runs, bit for bit.
+  Backend backend = Backend::fast;
   double gap_probability = 0.0;
   double backpressure_probability = 0.0;
   uint64_t seed = 1;
+  // Creates the Bus for Backend::rtl (and, if set, for Backend::model).
+  std::function<std::unique_ptr<Bus>(const SimBusOptions&)> bus_factory;
 };
 
 struct FrameOutcome {
@@ -44,7 +57,7 @@ struct FrameOutcome {
   std::vector<stream::RunRecord> runs;  // the runs read from the run stream
   ThresholdSettings settings;           // settings the frame was processed with
   int passes = 0;                       // 1, or 2 when the threshold was re-chosen
-  uint64_t cycles = 0;                  // clocked mode: clock cycles spent on the frame
+  uint64_t cycles = 0;                  // bus backends: device clock cycles spent on the frame
   TapePose pose;                        // the centre-line method (every pitch)
   std::optional<TapePose> zenith;       // the moments method, when the pitch is 90 deg
 };
@@ -67,9 +80,10 @@ class Navigator {
   CameraConfig camera_;
   CameraModel model_;
   NavigatorOptions options_;
-  stream::Pipeline pipeline_;
+  stream::Pipeline pipeline_;  // Backend::fast
+  std::unique_ptr<Bus> bus_;   // Backend::model / rtl
+  std::unique_ptr<Driver> driver_;
   std::optional<ThresholdSettings> previous_;
-  uint64_t rng_state_;
 };
 
 }  // namespace ceilnav::host

@@ -137,7 +137,7 @@ TEST(NavigatorRendered, ClockedModelGivesTheFastPathResultsUnderGapsAndBackPress
   const golden::CeilingScene scene = golden::corridor_scene(0.05, corridor);
   NavigatorOptions fast_opt;
   NavigatorOptions clocked_opt;
-  clocked_opt.clocked = true;
+  clocked_opt.backend = Backend::model;
   clocked_opt.gap_probability = 0.3;
   clocked_opt.backpressure_probability = 0.6;
   clocked_opt.seed = 9;
