@@ -53,6 +53,7 @@ void CeilnavTop::reset() {
   rd_addr_q_ = 0;
   rd_data_q_ = 0;
   rd_resp_q_ = kOkay;
+  rd_hist_q_ = false;
   cycle_q_ = 0;
   reset_datapath();
   soft_reset_hold_q_ = false;
@@ -84,6 +85,8 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
   const bool b_hs = axil_q_.bvalid && s_axil.bready;
   const bool ar_hs = axil_q_.arready && s_axil.arvalid;
   const bool r_hs = axil_q_.rvalid && s_axil.rready;
+  // The histogram block's read port answers one edge after the read.
+  const uint32_t hist_rd_data = pipeline_.hist_rd_data();
 
   // ---- Read sample stage: the register as it is before this edge.
   bool run_pop = false;
@@ -123,9 +126,12 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
 
   const bool hold = soft_reset_hold_q_;
   if (hold) {
+    // ThreshLut::reset() clears the pending swap that reset_datapath() set up:
+    // hand the pipeline the table of the now-active bank 0 again.
     pipeline_.reset();
+    push_config();
   } else {
-    pipeline_.clock(video_in, runs_tready);
+    pipeline_.clock(video_in, runs_tready, hist_inc, hist_index_q_);
     if (pass && s_axis_video.tuser && lut_pending_q_) {  // thresh_lut's bank swap
       lut_active_q_ ^= 1u;
       lut_pending_q_ = false;
@@ -177,10 +183,11 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
   if (rd_stage_q_ == 1) {
     rd_data_q_ = rd_value;
     rd_resp_q_ = rd_resp;
+    rd_hist_q_ = hist_inc;
     rd_stage_q_ = 2;
   } else if (rd_stage_q_ == 2) {
     axil_q_.rvalid = true;
-    axil_q_.rdata = rd_data_q_;
+    axil_q_.rdata = rd_hist_q_ ? regs::hist_data::kCount.put(hist_rd_data) : rd_data_q_;
     axil_q_.rresp = rd_resp_q_;
     rd_stage_q_ = 3;
   }
@@ -322,7 +329,7 @@ uint32_t CeilnavTop::read_register(uint32_t addr, uint8_t& resp) const {
     case r::hist_index::kOffset:
       return r::hist_index::kValue.put(hist_index_q_);
     case r::hist_data::kOffset:
-      return r::hist_data::kCount.put(res.histogram.bins[hist_index_q_]);
+      return 0;  // read through the histogram block's port (rd_hist_q_)
     case r::run_fifo_level::kOffset:
       return r::run_fifo_level::kValue.put(pipeline_.run_fifo_occupancy() +
                                            (head.tvalid ? 1u : 0u));

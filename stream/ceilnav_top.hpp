@@ -100,6 +100,7 @@ class CeilnavTop {
   uint32_t rd_addr_q_ = 0;
   uint32_t rd_data_q_ = 0;  // sampled value, waiting one edge for rvalid
   uint8_t rd_resp_q_ = 0;
+  bool rd_hist_q_ = false;  // the pending response is the histogram read port's data
 };
 
 }  // namespace ceilnav::stream

@@ -39,6 +39,11 @@ void Pipeline::set_config(const PipelineConfig& cfg) {
 }
 
 void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready) {
+  clock(s_axis_video, m_axis_runs_tready, false, 0);
+}
+
+void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, bool hist_rd_en,
+                     uint8_t hist_rd_bin) {
   // Every block samples the pre-edge outputs of the block before it.
   const PixelBeat fc_out = fc_.m_pix();
   const LutBeat lut_out = lut_.m_lut();
@@ -46,7 +51,7 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready) {
 
   // ---- Stage 3: histogram, moment_gen, run_scanner (all sample lut_out).
   const uint32_t overruns_before = mom_.overrun_count();
-  hist_.clock(lut_out, cfg_lut_.hist_source_remap);
+  hist_.clock(lut_out, cfg_lut_.hist_source_remap, hist_rd_en, hist_rd_bin);
   mom_.clock(lut_out);
   runs_.set_active_config(cfg_lut_.runs);
   runs_.clock(lut_out, m_axis_runs_tready);

@@ -51,6 +51,10 @@ class Pipeline {
 
   // One rising clock edge. s_axis_video_tready is always 1.
   void clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready);
+  // One rising clock edge with the histogram block's result read port
+  // (histogram.sv hist_rd_en_i / hist_rd_bin_i) sampled on it too.
+  void clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, bool hist_rd_en,
+             uint8_t hist_rd_bin);
 
   // Registered outputs.
   RunBeat m_axis_runs() const { return runs_.m_axis_runs(); }
@@ -58,6 +62,13 @@ class Pipeline {
   // new frame (the interrupt source: the register block latches it).
   bool frame_done() const { return frame_done_q_; }
   const FrameResults& results() const { return results_q_; }
+  // Registered output of the histogram read port: after an edge that sampled
+  // a read of bin b, bin b of the histogram block's result bank as it was
+  // before that edge, else 0. The result bank switches kHistSwitchCycles after
+  // the EOF beat on s_axis_video, before results() (kEofToFrameDoneCycles):
+  // results().histogram is a model-only copy that hardware does not hold.
+  uint32_t hist_rd_data() const { return hist_.hist_rd_data(); }
+  static constexpr int kHistSwitchCycles = 2 + Histogram::kDoneLatencyCycles;
   const FrameErrorCounters& error_counters() const { return fc_.counters(); }
   // Good frames whose results were not published because they ended while
   // moment_gen was still combining the previous frame (saturating).

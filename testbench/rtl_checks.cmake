@@ -2,7 +2,8 @@
 # a waiver with a reason in rtl_model/lint.vlt), and Yosys synth_ice40 +
 # synth_xilinx of every module (scripts/rtl_synth prints the cell counts).
 find_program(YOSYS yosys REQUIRED)
-add_test(NAME rtl.lint COMMAND ${PROJECT_SOURCE_DIR}/scripts/rtl_lint)
+# ceilnav_top includes the generated ceilnav_regs.svh (tools/regmap_gen).
+add_test(NAME rtl.lint COMMAND ${PROJECT_SOURCE_DIR}/scripts/rtl_lint ${CEILNAV_GENERATED_DIR})
 set_tests_properties(rtl.lint PROPERTIES LABELS "rtl")
 
 file(GLOB rtl_modules CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/rtl_model/*.sv)
@@ -11,6 +12,7 @@ foreach(sv IN LISTS rtl_modules)
   if(module MATCHES "_pkg$")
     continue()
   endif()
-  add_test(NAME rtl.synth.${module} COMMAND ${PROJECT_SOURCE_DIR}/scripts/rtl_synth ${module} both)
+  add_test(NAME rtl.synth.${module} COMMAND ${PROJECT_SOURCE_DIR}/scripts/rtl_synth ${module} both
+                                            ${CEILNAV_GENERATED_DIR})
   set_tests_properties(rtl.synth.${module} PROPERTIES LABELS "rtl" TIMEOUT 900)
 endforeach()

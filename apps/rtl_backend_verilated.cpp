@@ -1,0 +1,105 @@
+// The Verilated RTL top (rtl_model/ceilnav_top.sv) as a SimDevice, so the one
+// Driver runs on it through SimBus exactly as on the C++ model (ModelBus).
+#include <cstdint>
+#include <memory>
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wconversion"
+#pragma GCC diagnostic ignored "-Wsign-conversion"
+#pragma GCC diagnostic ignored "-Wpedantic"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#include "Vceilnav_top.h"
+#include "verilated.h"
+#pragma GCC diagnostic pop
+
+#include "apps/rtl_backend.hpp"
+#include "stream/run_scanner.hpp"
+
+namespace ceilnav::app {
+
+namespace {
+
+class RtlDevice : public host::SimDevice {
+ public:
+  explicit RtlDevice(uint64_t seed) : ctx_(std::make_unique<VerilatedContext>()) {
+    ctx_->randReset(2);  // registers without reset start random, as in silicon
+    ctx_->randSeed(static_cast<int>(seed & 0x7FFFFFFF));
+    top_ = std::make_unique<Vceilnav_top>(ctx_.get(), "ceilnav_top");
+    top_->clk_i = 0;
+    reset();
+  }
+  ~RtlDevice() override { top_->final(); }
+  RtlDevice(const RtlDevice&) = delete;
+  RtlDevice& operator=(const RtlDevice&) = delete;
+
+  // An asynchronous reset needs a falling rst_ni edge to act: raise it first.
+  // Two pulses: the datapath reset is rst_ni & ~soft_rst_q, and soft_rst_q may
+  // power up at 1, which hides the first falling edge from the datapath.
+  void reset() override {
+    top_->clk_i = 0;
+    for (int pulse = 0; pulse < 2; ++pulse) {
+      top_->rst_ni = 1;
+      top_->eval();
+      top_->rst_ni = 0;
+      top_->eval();
+    }
+    top_->rst_ni = 1;
+    top_->eval();
+  }
+
+  host::SimOutputs outputs() const override {
+    host::SimOutputs o;
+    o.s_axil.awready = top_->s_axil_awready_o;
+    o.s_axil.wready = top_->s_axil_wready_o;
+    o.s_axil.bvalid = top_->s_axil_bvalid_o;
+    o.s_axil.bresp = static_cast<uint8_t>(top_->s_axil_bresp_o);
+    o.s_axil.arready = top_->s_axil_arready_o;
+    o.s_axil.rvalid = top_->s_axil_rvalid_o;
+    o.s_axil.rdata = top_->s_axil_rdata_o;
+    o.s_axil.rresp = static_cast<uint8_t>(top_->s_axil_rresp_o);
+    o.m_axis_runs.tvalid = top_->m_axis_runs_tvalid_o;
+    o.m_axis_runs.tlast = top_->m_axis_runs_tlast_o;
+    stream::RunBeatWords w{};
+    for (size_t i = 0; i < w.size(); ++i) w[i] = top_->m_axis_runs_tdata_o[i];
+    o.m_axis_runs.tdata = stream::unpack_run_beat(w);
+    o.irq = top_->irq_o;
+    return o;
+  }
+
+  void clock(const host::SimInputs& in) override {
+    top_->s_axis_video_tdata_i = in.s_axis_video.tdata;
+    top_->s_axis_video_tvalid_i = in.s_axis_video.tvalid;
+    top_->s_axis_video_tuser_i = in.s_axis_video.tuser;
+    top_->s_axis_video_tlast_i = in.s_axis_video.tlast;
+    top_->s_axil_awaddr_i = in.s_axil.awaddr;
+    top_->s_axil_awvalid_i = in.s_axil.awvalid;
+    top_->s_axil_wdata_i = in.s_axil.wdata;
+    top_->s_axil_wstrb_i = in.s_axil.wstrb & 0xFu;
+    top_->s_axil_wvalid_i = in.s_axil.wvalid;
+    top_->s_axil_bready_i = in.s_axil.bready;
+    top_->s_axil_araddr_i = in.s_axil.araddr;
+    top_->s_axil_arvalid_i = in.s_axil.arvalid;
+    top_->s_axil_rready_i = in.s_axil.rready;
+    top_->m_axis_runs_tready_i = in.m_axis_runs_tready;
+    top_->eval();  // inputs settle with the clock low
+    top_->clk_i = 1;
+    top_->eval();
+    top_->clk_i = 0;
+    top_->eval();
+  }
+
+ private:
+  std::unique_ptr<VerilatedContext> ctx_;
+  std::unique_ptr<Vceilnav_top> top_;
+};
+
+}  // namespace
+
+std::function<std::unique_ptr<host::Bus>(const host::SimBusOptions&)> rtl_bus_factory() {
+  return [](const host::SimBusOptions& options) -> std::unique_ptr<host::Bus> {
+    return std::make_unique<host::SimBus>(std::make_unique<RtlDevice>(options.seed), options);
+  };
+}
+
+}  // namespace ceilnav::app

@@ -1,0 +1,353 @@
+// pipeline: frame_check -> thresh_lut -> {histogram, moment_gen, run_scanner},
+// the configuration that travels with the SOF, and the double-buffered frame
+// result registers. Cycle-exact twin of stream/pipeline.cpp (Pipeline::clock
+// with the histogram read port); see docs/blocks/pipeline.md, section "RTL".
+//
+// Publication: the stage-3 EOF beat sampled on edge T is staged on edge T+1
+// (run stats and frame meta, if moment_gen did not drop the frame) and the
+// whole set is published on edge T+8, the edge after which moment_gen's
+// done_o is high (MomentGen::kCombineCycles = 8). The moments are not copied:
+// moment_gen's output registers change only on that edge.
+// The histogram is read through the histogram block's port; its result bank
+// switches on edge T+1 (Pipeline::kHistSwitchCycles after the video EOF).
+module pipeline #(
+  parameter int unsigned RunFifoDepth = 1024,  // run FIFO entries, power of two, >= 8
+  localparam int unsigned CoordBits = 11,
+  localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1
+) (
+  input  logic                     clk_i,
+  input  logic                     rst_ni,
+
+  // Video (tready = 1)
+  input  logic [7:0]               s_axis_video_tdata_i,
+  input  logic                     s_axis_video_tvalid_i,
+  input  logic                     s_axis_video_tuser_i,
+  input  logic                     s_axis_video_tlast_i,
+
+  // Shadow configuration (PipelineConfig), active from the next SOF beat
+  input  logic [CoordBits:0]       cfg_width_i,
+  input  logic [CoordBits:0]       cfg_height_i,
+  input  logic [7:0]               cfg_background_level_i,
+  input  logic [15:0]              cfg_min_run_length_i,
+  input  logic [15:0]              cfg_max_runs_per_row_i,
+  input  logic                     cfg_hist_source_remap_i,
+
+  // LUT write port (shadow bank)
+  input  logic                     lut_wr_en_i,
+  input  logic [7:0]               lut_wr_index_i,
+  input  logic [8:0]               lut_wr_data_i,
+
+  // Runs
+  output logic                     m_axis_runs_tvalid_o,
+  input  logic                     m_axis_runs_tready_i,
+  output logic                     m_axis_runs_tlast_o,
+  output logic [111:0]             m_axis_runs_tdata_o,
+
+  // Histogram read port (result bank, one cycle)
+  input  logic                     hist_rd_en_i,
+  input  logic [7:0]               hist_rd_bin_i,
+  output logic [2*CoordBits:0]     hist_rd_data_o,
+
+  // Published results (FrameResults); frame_done_o: one-cycle pulse, high in
+  // the first cycle that shows a new set.
+  output logic                     frame_done_o,
+  output logic                     res_valid_o,
+  output logic [31:0]              res_frame_index_o,
+  output logic [31:0]              res_cycles_in_frame_o,  // saturating
+  output logic [31:0]              res_runs_emitted_o,
+  output logic [31:0]              res_runs_dropped_row_limit_o,
+  output logic [31:0]              res_runs_dropped_overflow_o,
+  output logic [31:0]              res_fifo_high_water_o,
+  output logic [6*32-1:0]          res_errors_o,  // FrameErrorCounters, field i at [32*i +: 32]
+  output logic [6*64-1:0]          res_mom_grey_o,  // MomentIndex i at [64*i +: 64]
+  output logic [6*64-1:0]          res_mom_mask_o,
+
+  // Live status
+  output logic [6*32-1:0]          errors_o,  // early_eol, late_eol, early_sof, missing_sof,
+                                              // frames_ok, frames_aborted
+  output logic [31:0]              frames_overrun_o,
+  output logic [31:0]              run_trailers_lost_o,
+  output logic [FifoCountBits-1:0] run_fifo_occupancy_o
+);
+
+  localparam int unsigned PubDelay = 7;  // staging edge T+1 -> publishing edge T+8
+  localparam int unsigned ErrFramesOk = 4;
+
+  // ---------------------------------------------------------------------------
+  // Stage 1: frame_check; the stage configuration is latched with the SOF beat.
+  logic                 video_sof;
+  logic                 fc_valid, fc_sof, fc_eol, fc_eof, fc_abort;
+  logic [7:0]           fc_grey;
+  logic [CoordBits-1:0] fc_x, fc_y;
+  logic [6*32-1:0]      fc_errors;
+  logic                 unused_fc_tready;
+
+  assign video_sof = s_axis_video_tvalid_i & s_axis_video_tuser_i;
+
+  frame_check #(
+    .CoordBits  (CoordBits),
+    .CounterBits(32)
+  ) u_frame_check (
+    .clk_i,
+    .rst_ni,
+    .s_axis_video_tdata_i,
+    .s_axis_video_tvalid_i,
+    .s_axis_video_tready_o(unused_fc_tready),
+    .s_axis_video_tuser_i,
+    .s_axis_video_tlast_i,
+    .cfg_width_i,
+    .cfg_height_i,
+    .m_pix_valid_o   (fc_valid),
+    .m_pix_grey_o    (fc_grey),
+    .m_pix_x_o       (fc_x),
+    .m_pix_y_o       (fc_y),
+    .m_pix_sof_o     (fc_sof),
+    .m_pix_eol_o     (fc_eol),
+    .m_pix_eof_o     (fc_eof),
+    .m_pix_abort_o   (fc_abort),
+    .early_eol_o     (fc_errors[0*32 +: 32]),
+    .late_eol_o      (fc_errors[1*32 +: 32]),
+    .early_sof_o     (fc_errors[2*32 +: 32]),
+    .missing_sof_o   (fc_errors[3*32 +: 32]),
+    .frames_ok_o     (fc_errors[4*32 +: 32]),
+    .frames_aborted_o(fc_errors[5*32 +: 32])
+  );
+
+  // StageConfig: {hist_source_remap, max_runs_per_row, min_run_length, background_level}
+  localparam int unsigned StageCfgBits = 1 + 16 + 16 + 8;
+  logic [StageCfgBits-1:0] cfg_shadow, cfg_fc_q, cfg_lut_q;
+  assign cfg_shadow = {cfg_hist_source_remap_i, cfg_max_runs_per_row_i, cfg_min_run_length_i,
+                       cfg_background_level_i};
+
+  // ---------------------------------------------------------------------------
+  // Stage 2: thresh_lut (bank swap on frame_check's SOF edge).
+  logic                 lut_valid, lut_sof, lut_eol, lut_eof, lut_abort, lut_mask;
+  logic [7:0]           lut_grey, lut_remap;
+  logic [CoordBits-1:0] lut_x, lut_y;
+
+  thresh_lut #(
+    .CoordBits(CoordBits)
+  ) u_thresh_lut (
+    .clk_i,
+    .rst_ni,
+    .s_pix_valid_i (fc_valid),
+    .s_pix_grey_i  (fc_grey),
+    .s_pix_x_i     (fc_x),
+    .s_pix_y_i     (fc_y),
+    .s_pix_sof_i   (fc_sof),
+    .s_pix_eol_i   (fc_eol),
+    .s_pix_eof_i   (fc_eof),
+    .s_pix_abort_i (fc_abort),
+    .frame_start_i (video_sof),
+    .lut_wr_en_i,
+    .lut_wr_index_i,
+    .lut_wr_data_i,
+    .m_lut_valid_o (lut_valid),
+    .m_lut_grey_o  (lut_grey),
+    .m_lut_x_o     (lut_x),
+    .m_lut_y_o     (lut_y),
+    .m_lut_sof_o   (lut_sof),
+    .m_lut_eol_o   (lut_eol),
+    .m_lut_eof_o   (lut_eof),
+    .m_lut_abort_o (lut_abort),
+    .m_lut_remap_o (lut_remap),
+    .m_lut_mask_o  (lut_mask)
+  );
+
+  // Frame meta of the EOF pixel leaving frame_check (FrameMeta):
+  // {cycles_in_frame, errors, frame_index}.
+  localparam int unsigned MetaBits = 32 + 6 * 32 + 32;
+  logic [31:0]         frame_cycles_q;  // cycles since the SOF pixel left frame_check, saturating
+  logic [31:0]         frame_cycles;    // SOF pixel to this pixel, inclusive
+  logic [MetaBits-1:0] meta_fc, meta_lut_q;
+
+  assign frame_cycles = (fc_valid && fc_sof) ? 32'd1 : frame_cycles_q;
+  assign meta_fc = {frame_cycles, fc_errors, fc_errors[ErrFramesOk*32 +: 32] - 32'd1};
+
+  // ---------------------------------------------------------------------------
+  // Stage 3: histogram, moment_gen, run_scanner (all sample thresh_lut's output).
+  logic [31:0] mom_overrun;
+  logic        mom_done, unused_mom_busy;
+  logic [29:0] g00;
+  logic [39:0] g10, g01;
+  logic [50:0] g20, g02;
+  logic [49:0] g11;
+  logic [22:0] k00;
+  logic [31:0] k10, k01;
+  logic [42:0] k20, k02;
+  logic [41:0] k11;
+  logic        unused_hist_done;
+
+  histogram #(
+    .CoordBits(CoordBits)
+  ) u_histogram (
+    .clk_i,
+    .rst_ni,
+    .s_lut_valid_i (lut_valid),
+    .s_lut_grey_i  (lut_grey),
+    .s_lut_x_i     (lut_x),
+    .s_lut_y_i     (lut_y),
+    .s_lut_sof_i   (lut_sof),
+    .s_lut_eol_i   (lut_eol),
+    .s_lut_eof_i   (lut_eof),
+    .s_lut_abort_i (lut_abort),
+    .s_lut_remap_i (lut_remap),
+    .s_lut_mask_i  (lut_mask),
+    .source_remap_i(cfg_lut_q[StageCfgBits-1]),
+    .done_o        (unused_hist_done),
+    .hist_rd_en_i,
+    .hist_rd_bin_i,
+    .hist_rd_data_o
+  );
+
+  moment_gen u_moment_gen (
+    .clk_i,
+    .rst_ni,
+    .s_lut_valid_i  (lut_valid),
+    .s_lut_grey_i   (lut_grey),
+    .s_lut_x_i      (lut_x),
+    .s_lut_y_i      (lut_y),
+    .s_lut_sof_i    (lut_sof),
+    .s_lut_eol_i    (lut_eol),
+    .s_lut_eof_i    (lut_eof),
+    .s_lut_abort_i  (lut_abort),
+    .s_lut_remap_i  (lut_remap),
+    .s_lut_mask_i   (lut_mask),
+    .done_o         (mom_done),
+    .grey_m00_o     (g00),
+    .grey_m10_o     (g10),
+    .grey_m01_o     (g01),
+    .grey_m20_o     (g20),
+    .grey_m11_o     (g11),
+    .grey_m02_o     (g02),
+    .mask_m00_o     (k00),
+    .mask_m10_o     (k10),
+    .mask_m01_o     (k01),
+    .mask_m20_o     (k20),
+    .mask_m11_o     (k11),
+    .mask_m02_o     (k02),
+    .combine_busy_o (unused_mom_busy),
+    .overrun_count_o(mom_overrun)
+  );
+
+  logic [31:0] rs_emitted, rs_row_limit, rs_overflow, rs_high_water;
+  logic        unused_rs_done;
+
+  run_scanner #(
+    .FifoDepth(RunFifoDepth)
+  ) u_run_scanner (
+    .clk_i,
+    .rst_ni,
+    .s_lut_valid_i           (lut_valid),
+    .s_lut_grey_i            (lut_grey),
+    .s_lut_x_i               (lut_x),
+    .s_lut_y_i               (lut_y),
+    .s_lut_sof_i             (lut_sof),
+    .s_lut_eol_i             (lut_eol),
+    .s_lut_eof_i             (lut_eof),
+    .s_lut_abort_i           (lut_abort),
+    .s_lut_remap_i           (lut_remap),
+    .s_lut_mask_i            (lut_mask),
+    .cfg_background_level_i  (cfg_lut_q[7:0]),
+    .cfg_min_run_length_i    (cfg_lut_q[23:8]),
+    .cfg_max_runs_per_row_i  (cfg_lut_q[39:24]),
+    .m_axis_runs_tvalid_o,
+    .m_axis_runs_tready_i,
+    .m_axis_runs_tlast_o,
+    .m_axis_runs_tdata_o,
+    .done_o                  (unused_rs_done),
+    .runs_emitted_o          (rs_emitted),
+    .runs_dropped_row_limit_o(rs_row_limit),
+    .runs_dropped_overflow_o (rs_overflow),
+    .fifo_high_water_o       (rs_high_water),
+    .fifo_occupancy_o        (run_fifo_occupancy_o),
+    .trailers_lost_o         (run_trailers_lost_o)
+  );
+
+  // ---------------------------------------------------------------------------
+  // Staging and publication. An EOF that moment_gen drops (overrun_count
+  // moves on its edge) is neither staged nor published.
+  localparam int unsigned RunStatBits = 4 * 32;
+  logic                   pend_q;          // stage-3 EOF sampled on the last edge
+  logic [MetaBits-1:0]    pend_meta_q;
+  logic [31:0]            pend_overrun_q;  // overrun_count before that edge
+  logic                   accept;
+  logic [PubDelay-1:0]    pub_sr_q;        // accepted frames on their way to publication
+  logic [MetaBits-1:0]    staged_meta_q, res_meta_q;
+  logic [RunStatBits-1:0] staged_runs_q, res_runs_q;
+  logic                   res_valid_q;
+
+  assign accept = pend_q & (mom_overrun == pend_overrun_q);
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      cfg_fc_q       <= '0;
+      cfg_lut_q      <= '0;
+      frame_cycles_q <= '0;
+      meta_lut_q     <= '0;
+      pend_q         <= 1'b0;
+      pend_meta_q    <= '0;
+      pend_overrun_q <= '0;
+      pub_sr_q       <= '0;
+      staged_meta_q  <= '0;
+      staged_runs_q  <= '0;
+      res_meta_q     <= '0;
+      res_runs_q     <= '0;
+      res_valid_q    <= 1'b0;
+    end else begin
+      if (video_sof) begin
+        cfg_fc_q <= cfg_shadow;
+      end
+      if (fc_valid && fc_sof) begin
+        cfg_lut_q <= cfg_fc_q;
+      end
+      frame_cycles_q <= (frame_cycles == 32'hFFFF_FFFF) ? frame_cycles : frame_cycles + 32'd1;
+      if (fc_valid && fc_eof) begin
+        meta_lut_q <= meta_fc;
+      end
+      pend_q         <= lut_valid & lut_eof;
+      pend_meta_q    <= meta_lut_q;
+      pend_overrun_q <= mom_overrun;
+      pub_sr_q       <= {pub_sr_q[PubDelay-2:0], accept};
+      if (accept) begin
+        staged_meta_q <= pend_meta_q;
+        staged_runs_q <= {rs_high_water, rs_overflow, rs_row_limit, rs_emitted};
+      end
+      if (pub_sr_q[PubDelay-1]) begin
+        res_meta_q  <= staged_meta_q;
+        res_runs_q  <= staged_runs_q;
+        res_valid_q <= 1'b1;
+      end
+    end
+  end
+
+  assign frame_done_o                 = mom_done;
+  assign res_valid_o                  = res_valid_q;
+  assign res_frame_index_o            = res_meta_q[31:0];
+  assign res_errors_o                 = res_meta_q[32 +: 6*32];
+  assign res_cycles_in_frame_o        = res_meta_q[MetaBits-1 -: 32];
+  assign res_runs_emitted_o           = res_runs_q[0*32 +: 32];
+  assign res_runs_dropped_row_limit_o = res_runs_q[1*32 +: 32];
+  assign res_runs_dropped_overflow_o  = res_runs_q[2*32 +: 32];
+  assign res_fifo_high_water_o        = res_runs_q[3*32 +: 32];
+  assign res_mom_grey_o = {64'(g02), 64'(g11), 64'(g20), 64'(g01), 64'(g10), 64'(g00)};
+  assign res_mom_mask_o = {64'(k02), 64'(k11), 64'(k20), 64'(k01), 64'(k10), 64'(k00)};
+  assign errors_o                     = fc_errors;
+  assign frames_overrun_o             = mom_overrun;
+
+  logic unused;
+  assign unused = ^{unused_fc_tready, unused_mom_busy, unused_hist_done, unused_rs_done};
+
+`ifndef SYNTHESIS
+  // The publication strobe is moment_gen's done: the staged set and the
+  // moments belong to one frame. (Unprovable only once overrun_count saturates.)
+  logic pub_q;
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) pub_q <= 1'b0;
+    else         pub_q <= pub_sr_q[PubDelay-1];
+  end
+  PublishIsMomentDone: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      (mom_overrun != 32'hFFFF_FFFF) |-> (pub_q == mom_done));
+`endif
+
+endmodule

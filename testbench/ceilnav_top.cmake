@@ -1,0 +1,46 @@
+# The Verilated device top (rtl_model/ceilnav_top.sv and the blocks under it)
+# as a static library: linked by the top co-simulation test and by the host
+# (a later RtlBus). The register include file comes from tools/regmap_gen.
+set(ceilnav_top_sv
+    ${CEILNAV_RTL_DIR}/ceilnav_top.sv ${CEILNAV_RTL_DIR}/pipeline.sv
+    ${CEILNAV_RTL_DIR}/frame_check.sv ${CEILNAV_RTL_DIR}/thresh_lut.sv
+    ${CEILNAV_RTL_DIR}/histogram.sv ${CEILNAV_RTL_DIR}/moment_gen.sv
+    ${CEILNAV_RTL_DIR}/run_fifo.sv ${CEILNAV_RTL_DIR}/run_scanner.sv)
+# verilate() runs Verilator at configure time, before the build generates the
+# include file: in a fresh build tree, generate it now with a configure-time
+# build of the same generator (the build-time rule regenerates it from then on).
+if(NOT EXISTS ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh)
+  get_target_property(json_inc nlohmann_json::nlohmann_json INTERFACE_INCLUDE_DIRECTORIES)
+  set(json_flags "")
+  foreach(dir IN LISTS json_inc)
+    list(APPEND json_flags -I${dir})
+  endforeach()
+  set(regmap_boot ${CMAKE_CURRENT_BINARY_DIR}/regmap_gen_configure)
+  execute_process(COMMAND ${CMAKE_CXX_COMPILER} -std=c++20 ${json_flags}
+                          ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp -o ${regmap_boot}
+                  RESULT_VARIABLE regmap_boot_rc)
+  if(regmap_boot_rc EQUAL 0)
+    execute_process(COMMAND ${regmap_boot} ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json
+                            ${CEILNAV_GENERATED_DIR} RESULT_VARIABLE regmap_boot_rc)
+  endif()
+  if(NOT regmap_boot_rc EQUAL 0)
+    message(FATAL_ERROR "could not generate ceilnav_regs.svh at configure time")
+  endif()
+endif()
+add_library(ceilnav_rtl_top STATIC)
+verilate(ceilnav_rtl_top SOURCES ${ceilnav_top_sv} TOP_MODULE ceilnav_top PREFIX Vceilnav_top
+         INCLUDE_DIRS ${CEILNAV_GENERATED_DIR}
+         VERILATOR_ARGS -Wno-fatal --assert -O3 --x-assign unique --x-initial unique
+         TRACE_FST)
+add_dependencies(ceilnav_rtl_top ceilnav_regs_gen)
+# Verilator's generated code is not ours: no project warnings on it.
+target_compile_options(ceilnav_rtl_top PRIVATE -Wno-unused-parameter)
+set_target_properties(ceilnav_rtl_top PROPERTIES POSITION_INDEPENDENT_CODE ON)
+
+# Co-simulation: Vceilnav_top against stream::CeilnavTop on every port, every cycle.
+add_executable(cosim_ceilnav_top_test ${CMAKE_CURRENT_LIST_DIR}/cosim_ceilnav_top_test.cpp)
+target_link_libraries(cosim_ceilnav_top_test PRIVATE ceilnav_rtl_top ceilnav_stream ceilnav_regs
+                                                     ceilnav_warnings GTest::gtest
+                                                     GTest::gtest_main)
+gtest_discover_tests(cosim_ceilnav_top_test TEST_PREFIX "cosim_ceilnav_top_test."
+                     DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")
