@@ -81,6 +81,20 @@ for backend in $CLI_BACKENDS; do
   fi
 done
 
+# The demo: same results CSV on every backend.
+if $CEILNAV demo --out "$work/demo_fast" --frames 3 >/dev/null 2>&1; then ok "demo"; else bad "demo"; fi
+for backend in $CLI_BACKENDS; do
+  if $CEILNAV demo --out "$work/demo_$backend" --frames 3 --backend $backend >/dev/null 2>&1 &&
+    cmp -s "$work/demo_fast/results.csv" "$work/demo_$backend/results.csv"; then
+    ok "demo $backend == fast CSV"
+  else
+    bad "demo $backend == fast CSV"
+  fi
+done
+for f in results.csv truth.csv scene.yaml overlay.png; do
+  [ -s "$work/demo_fast/$f" ] && ok "demo wrote $f" || bad "demo wrote $f"
+done
+
 # ---- bad inputs
 o=$work/never.csv
 expect_error "missing frames folder" "does not exist" "$o" -- run --frames "$work/nope" --scene "$frames/scene.yaml" --out "$o"
