@@ -232,7 +232,7 @@ constexpr uint64_t kCoverageCycles = 100'000;
 struct Scenario {
   uint64_t cycles = 1'000'000;
   double run_sink_share = 0.25;  // chance that a CONTROL write selects RUN_SINK = 1
-  bool big_frame = true;         // one 640x480 frame
+  bool big_frame = true;         // one 1280x960 frame (the largest geometry the issue names)
 };
 
 void run_scenario(const Scenario& sc, uint64_t seed) {
@@ -399,8 +399,8 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
         int h = 1;
         const auto size = rng.uniform(0, 99);
         if (frames == big_frame_at) {
-          w = 640;
-          h = 480;
+          w = 1280;
+          h = 960;
           control |= r::control::kEnable.mask();  // this one must not be gated off
           push({true, r::control::kOffset, control, 0xF, true});
         } else if (size < 55) {
