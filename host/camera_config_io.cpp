@@ -1,5 +1,7 @@
 #include "host/camera_config_io.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -129,11 +131,22 @@ CameraConfig load_camera_config(const std::string& path) {
 
   const cv::Mat d = read_matrix(fs, path, "distortion_coefficients");
   const int n = static_cast<int>(d.total());
-  if ((d.rows != 1 && d.cols != 1) || (n != 4 && n != 5)) {
-    fail(path, "distortion_coefficients", "must be 1x5, 5x1, 1x4 or 4x1 (k1 k2 p1 p2 [k3])");
+  if ((d.rows != 1 && d.cols != 1) || (n != 4 && n != 5 && n != 8 && n != 12 && n != 14)) {
+    fail(path, "distortion_coefficients",
+         "must be 1x5, 5x1, 1x4 or 4x1 (k1 k2 p1 p2 [k3]); 8, 12 or 14 only with the extra "
+         "terms zero");
+  }
+  // cv::calibrateCamera with the rational, thin-prism or tilted model writes
+  // 8, 12 or 14 coefficients; only the 5-term model is supported, so the
+  // extra terms must be zero.
+  for (int i = 5; i < n; ++i) {
+    if (d.at<double>(d.rows == 1 ? 0 : i, d.rows == 1 ? i : 0) != 0.0) {
+      fail(path, "distortion_coefficients",
+           "has non-zero terms beyond k3 (rational/thin-prism/tilted models are not supported)");
+    }
   }
   cfg.distortion_coefficients = {};
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < std::min(n, 5); ++i) {
     cfg.distortion_coefficients[static_cast<size_t>(i)] =
         d.at<double>(d.rows == 1 ? 0 : i, d.rows == 1 ? i : 0);
   }

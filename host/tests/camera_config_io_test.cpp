@@ -141,6 +141,26 @@ TEST_F(ConfigIoTest, AcceptsColumnAndFourCoefficientDistortion) {
   EXPECT_FALSE(c.has_distortion());
 }
 
+TEST_F(ConfigIoTest, EightCoefficientsOnlyWithTheExtraTermsZero) {
+  auto keys = valid_keys();
+  keys["distortion_coefficients"] =
+      "!!opencv-matrix\n   rows: 1\n   cols: 8\n   dt: d\n   data: [ 0.1, 0.2, 0.3, 0.4, 0.5, "
+      "0., 0., 0. ]";
+  const CameraConfig c = load_camera_config(write("eight.yaml", yaml(keys)));
+  EXPECT_EQ(c.distortion_coefficients, (std::array<double, 5>{0.1, 0.2, 0.3, 0.4, 0.5}));
+  keys["distortion_coefficients"] =
+      "!!opencv-matrix\n   rows: 1\n   cols: 8\n   dt: d\n   data: [ 0.1, 0.2, 0.3, 0.4, 0.5, "
+      "0.01, 0., 0. ]";
+  const std::string p = write("rational.yaml", yaml(keys));
+  expect_config_error([&] { load_camera_config(p); },
+                      {"rational.yaml", "distortion_coefficients", "beyond k3"});
+  keys["distortion_coefficients"] =
+      "!!opencv-matrix\n   rows: 1\n   cols: 6\n   dt: d\n   data: [ 0.1, 0.2, 0.3, 0.4, 0.5, "
+      "0. ]";
+  const std::string p6 = write("six.yaml", yaml(keys));
+  expect_config_error([&] { load_camera_config(p6); }, {"six.yaml", "distortion_coefficients"});
+}
+
 TEST_F(ConfigIoTest, EveryMissingKeyIsNamed) {
   for (const auto& [key, value] : valid_keys()) {
     auto keys = valid_keys();
