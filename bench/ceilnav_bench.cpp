@@ -1,0 +1,417 @@
+// Throughput of the five ways ceilnav processes a frame, on the same rendered
+// 640x480 frames of the demo corridor: the fast C++ path, the cycle-level C++
+// model, the Verilated RTL top, the OpenCV golden path and the host pose
+// maths. After the runs, main() prints the ratios and the targets of issue 4.
+// See docs/performance.md.
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <opencv2/core.hpp>
+
+#include "apps/default_scene.hpp"
+#include "golden/pipeline_ref.hpp"
+#include "golden/renderer.hpp"
+#include "host/auto_threshold.hpp"
+#include "host/camera_model.hpp"
+#include "host/tape_pose.hpp"
+#include "stream/beat.hpp"
+#include "stream/config.hpp"
+#include "stream/pipeline.hpp"
+#include "stream/run_record.hpp"
+
+#if CEILNAV_BENCH_RTL
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wconversion"
+#pragma GCC diagnostic ignored "-Wsign-conversion"
+#pragma GCC diagnostic ignored "-Wpedantic"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#include "Vceilnav_top.h"
+#include "verilated.h"
+#pragma GCC diagnostic pop
+
+#include "host/driver.hpp"
+#include "host/sim_bus.hpp"
+#include "stream/run_scanner.hpp"
+#endif
+
+namespace {
+
+using namespace ceilnav;
+
+constexpr int kFrames = 4;  // poses of the demo drive
+
+// The shared workload: frames, their video beats, one configuration chosen
+// the way the host does (auto threshold on the first frame's histogram), and
+// the fast path's results and runs of every frame as the reference.
+struct Workload {
+  host::CameraConfig camera;
+  std::unique_ptr<host::CameraModel> camera_model;
+  stream::PipelineConfig cfg;
+  std::vector<cv::Mat> frames;
+  std::vector<std::vector<stream::VideoBeat>> beats;
+  std::vector<stream::FrameResults> results;
+  std::vector<std::vector<stream::RunRecord>> runs;
+  int64_t pixels_per_frame = 0;
+};
+
+std::vector<stream::VideoBeat> frame_beats(const cv::Mat& grey) {
+  std::vector<stream::VideoBeat> beats;
+  beats.reserve(grey.total());
+  for (int y = 0; y < grey.rows; ++y) {
+    const uint8_t* row = grey.ptr<uint8_t>(y);
+    for (int x = 0; x < grey.cols; ++x) {
+      beats.push_back({row[x], true, x == 0 && y == 0, x == grey.cols - 1});
+    }
+  }
+  return beats;
+}
+
+const Workload& workload() {
+  static const Workload w = [] {
+    Workload r;
+    r.camera = app::default_camera();
+    r.camera_model = std::make_unique<host::CameraModel>(r.camera);
+    const golden::CeilingScene scene = app::default_corridor(r.camera);
+    golden::RenderParams params = app::default_render_params();
+    const std::vector<app::DrivePose> drive = app::default_drive(kFrames);
+    for (int i = 0; i < kFrames; ++i) {
+      params.noise_seed = 1000u + static_cast<uint64_t>(i);
+      r.frames.push_back(
+          golden::render_frame(r.camera, scene, drive[static_cast<size_t>(i)].pose, params));
+    }
+    stream::PipelineConfig base;
+    base.width = static_cast<uint16_t>(r.camera.image_width);
+    base.height = static_cast<uint16_t>(r.camera.image_height);
+    const host::ThresholdSettings s =
+        host::choose_threshold(golden::pipeline_ref(r.frames.front(), base).histogram);
+    if (!s.usable) throw std::runtime_error("bench: no usable threshold on the first frame");
+    r.cfg = host::apply_threshold(base, s);
+    r.pixels_per_frame = int64_t{r.cfg.width} * r.cfg.height;
+
+    stream::Pipeline p;
+    p.set_config(r.cfg);
+    for (const cv::Mat& f : r.frames) {
+      r.beats.push_back(frame_beats(f));
+      std::vector<stream::RunRecord> runs;
+      r.results.push_back(p.process_frame(f.data, f.cols, f.rows, f.step, &runs));
+      r.runs.push_back(std::move(runs));
+    }
+    return r;
+  }();
+  return w;
+}
+
+// (1) Fast path: Pipeline::process_frame.
+void BM_FastPath(benchmark::State& state) {
+  const Workload& w = workload();
+  stream::Pipeline p;
+  p.set_config(w.cfg);
+  std::vector<stream::RunRecord> runs;
+  size_t i = 0;
+  for (auto _ : state) {
+    const cv::Mat& f = w.frames[i];
+    runs.clear();
+    benchmark::DoNotOptimize(p.process_frame(f.data, f.cols, f.rows, f.step, &runs));
+    i = (i + 1) % w.frames.size();
+  }
+  state.counters["pix/s"] = benchmark::Counter(
+      static_cast<double>(state.iterations() * w.pixels_per_frame), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_FastPath)->Unit(benchmark::kMillisecond);
+
+// (2) Cycle-level model: Pipeline::clock, one beat per edge, no gaps,
+// m_axis_runs_tready = 1. One iteration = one frame of beats.
+void BM_CycleModel(benchmark::State& state) {
+  const Workload& w = workload();
+  stream::Pipeline p;
+  p.set_config(w.cfg);
+  size_t i = 0;
+  int64_t cycles = 0;
+  for (auto _ : state) {
+    for (const stream::VideoBeat& b : w.beats[i]) p.clock(b, true);
+    cycles += static_cast<int64_t>(w.beats[i].size());
+    i = (i + 1) % w.frames.size();
+  }
+  // Check (untimed) that the clocked frames gave the fast path's results.
+  const stream::VideoBeat idle{};
+  for (int c = 0; c < stream::Pipeline::kEofToFrameDoneCycles + 1; ++c) p.clock(idle, true);
+  stream::FrameResults got = p.results();
+  const stream::FrameResults& want = w.results[(i + w.frames.size() - 1) % w.frames.size()];
+  if (!(got.moments == want.moments && got.histogram == want.histogram &&
+        got.run_stats == want.run_stats)) {
+    state.SkipWithError("cycle model results differ from the fast path");
+  }
+  state.counters["cycles/s"] =
+      benchmark::Counter(static_cast<double>(cycles), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_CycleModel)->Unit(benchmark::kMillisecond);
+
+#if CEILNAV_BENCH_RTL
+// The Verilated top, driven as apps/rtl_backend_verilated.cpp does.
+class Rtl {
+ public:
+  Rtl() : ctx_(std::make_unique<VerilatedContext>()) {
+    ctx_->randReset(2);
+    ctx_->randSeed(1);
+    top_ = std::make_unique<Vceilnav_top>(ctx_.get(), "ceilnav_top");
+    top_->clk_i = 0;
+    reset();
+  }
+  ~Rtl() { top_->final(); }
+  Rtl(const Rtl&) = delete;
+  Rtl& operator=(const Rtl&) = delete;
+
+  // Two pulses: the datapath reset is rst_ni & ~soft_rst_q, and soft_rst_q
+  // may power up at 1, which hides the first falling edge from the datapath.
+  void reset() {
+    top_->clk_i = 0;
+    for (int pulse = 0; pulse < 2; ++pulse) {
+      top_->rst_ni = 1;
+      top_->eval();
+      top_->rst_ni = 0;
+      top_->eval();
+    }
+    top_->rst_ni = 1;
+    top_->eval();
+  }
+
+  // One edge with the AXI-Lite and run-stream inputs as set (idle, tready).
+  void clock(const stream::VideoBeat& b) {
+    top_->s_axis_video_tdata_i = b.tdata;
+    top_->s_axis_video_tvalid_i = b.tvalid;
+    top_->s_axis_video_tuser_i = b.tuser;
+    top_->s_axis_video_tlast_i = b.tlast;
+    top_->eval();
+    top_->clk_i = 1;
+    top_->eval();
+    top_->clk_i = 0;
+    top_->eval();
+  }
+
+  Vceilnav_top& top() { return *top_; }
+
+ private:
+  std::unique_ptr<VerilatedContext> ctx_;
+  std::unique_ptr<Vceilnav_top> top_;
+};
+
+// A non-owning SimDevice on the Rtl, so the host Driver can configure it and
+// read a frame back through AXI-Lite before the timed loop.
+class RtlDeviceRef : public host::SimDevice {
+ public:
+  explicit RtlDeviceRef(Rtl& rtl) : rtl_(rtl) {}
+  void reset() override { rtl_.reset(); }
+  host::SimOutputs outputs() const override {
+    Vceilnav_top& t = rtl_.top();
+    host::SimOutputs o;
+    o.s_axil.awready = t.s_axil_awready_o;
+    o.s_axil.wready = t.s_axil_wready_o;
+    o.s_axil.bvalid = t.s_axil_bvalid_o;
+    o.s_axil.bresp = static_cast<uint8_t>(t.s_axil_bresp_o);
+    o.s_axil.arready = t.s_axil_arready_o;
+    o.s_axil.rvalid = t.s_axil_rvalid_o;
+    o.s_axil.rdata = t.s_axil_rdata_o;
+    o.s_axil.rresp = static_cast<uint8_t>(t.s_axil_rresp_o);
+    o.m_axis_runs.tvalid = t.m_axis_runs_tvalid_o;
+    o.m_axis_runs.tlast = t.m_axis_runs_tlast_o;
+    stream::RunBeatWords words{};
+    for (size_t k = 0; k < words.size(); ++k) words[k] = t.m_axis_runs_tdata_o[k];
+    o.m_axis_runs.tdata = stream::unpack_run_beat(words);
+    o.irq = t.irq_o;
+    return o;
+  }
+  void clock(const host::SimInputs& in) override {
+    Vceilnav_top& t = rtl_.top();
+    t.s_axil_awaddr_i = in.s_axil.awaddr;
+    t.s_axil_awvalid_i = in.s_axil.awvalid;
+    t.s_axil_wdata_i = in.s_axil.wdata;
+    t.s_axil_wstrb_i = in.s_axil.wstrb & 0xFu;
+    t.s_axil_wvalid_i = in.s_axil.wvalid;
+    t.s_axil_bready_i = in.s_axil.bready;
+    t.s_axil_araddr_i = in.s_axil.araddr;
+    t.s_axil_arvalid_i = in.s_axil.arvalid;
+    t.s_axil_rready_i = in.s_axil.rready;
+    t.m_axis_runs_tready_i = in.m_axis_runs_tready;
+    rtl_.clock(in.s_axis_video);
+  }
+
+ private:
+  Rtl& rtl_;
+};
+
+// Leaves every AXI-Lite input idle and m_axis_runs_tready = 1.
+void idle_axi(Vceilnav_top& t) {
+  t.s_axil_awvalid_i = 0;
+  t.s_axil_wvalid_i = 0;
+  t.s_axil_bready_i = 1;
+  t.s_axil_arvalid_i = 0;
+  t.s_axil_rready_i = 1;
+  t.m_axis_runs_tready_i = 1;
+}
+
+// (3) Verilated RTL top, untraced: one beat per edge, registers idle.
+void BM_Rtl(benchmark::State& state) {
+  const Workload& w = workload();
+  Rtl rtl;
+  {
+    // Configure through AXI-Lite and check one frame against the fast path
+    // (untimed), so the timed loop runs a configured, working device.
+    host::SimBus bus(std::make_unique<RtlDeviceRef>(rtl));
+    host::Driver driver(bus);
+    driver.identify();
+    driver.configure(w.cfg);
+    const cv::Mat& f = w.frames.front();
+    bus.queue_frame(f.data, f.cols, f.rows, f.step, host::FrameFeed{});
+    const host::FrameReadout r = driver.read_frame();
+    if (!(r.results.moments == w.results.front().moments &&
+          r.results.run_stats == w.results.front().run_stats && r.runs == w.runs.front())) {
+      state.SkipWithError("RTL results differ from the fast path");
+      return;
+    }
+  }
+  idle_axi(rtl.top());
+  size_t i = 0;
+  int64_t cycles = 0;
+  for (auto _ : state) {
+    for (const stream::VideoBeat& b : w.beats[i]) rtl.clock(b);
+    cycles += static_cast<int64_t>(w.beats[i].size());
+    i = (i + 1) % w.frames.size();
+  }
+  state.counters["cycles/s"] =
+      benchmark::Counter(static_cast<double>(cycles), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Rtl)->Unit(benchmark::kMillisecond);
+#endif
+
+// (4) OpenCV golden path: golden::pipeline_ref.
+void BM_Golden(benchmark::State& state) {
+  const Workload& w = workload();
+  size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(golden::pipeline_ref(w.frames[i], w.cfg));
+    i = (i + 1) % w.frames.size();
+  }
+  state.counters["pix/s"] = benchmark::Counter(
+      static_cast<double>(state.iterations() * w.pixels_per_frame), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Golden)->Unit(benchmark::kMillisecond);
+
+// (5) Host pose maths on the runs of a frame: host::estimate_tape_pose.
+void BM_HostPose(benchmark::State& state) {
+  const Workload& w = workload();
+  size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(host::estimate_tape_pose(w.runs[i], *w.camera_model, w.camera));
+    i = (i + 1) % w.frames.size();
+  }
+  state.counters["frames/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  int64_t runs = 0;
+  for (const auto& r : w.runs) runs += static_cast<int64_t>(r.size());
+  state.counters["runs/frame"] = static_cast<double>(runs) / static_cast<double>(w.runs.size());
+}
+BENCHMARK(BM_HostPose)->Unit(benchmark::kMicrosecond);
+
+// Console output plus the finished counters of every run, by benchmark name.
+class RecordingReporter : public benchmark::ConsoleReporter {
+ public:
+  explicit RecordingReporter(bool color) : ConsoleReporter(color ? OO_ColorTabular : OO_Tabular) {}
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& r : runs) {
+      if (r.error_occurred) ++errors_;
+      if (r.run_type == Run::RT_Iteration && !r.error_occurred) {
+        for (const auto& [name, c] : r.counters) values_[r.benchmark_name()][name] = c.value;
+      }
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+  std::optional<double> get(const std::string& bench, const std::string& counter) const {
+    const auto b = values_.find(bench);
+    if (b == values_.end()) return std::nullopt;
+    const auto c = b->second.find(counter);
+    if (c == b->second.end()) return std::nullopt;
+    return c->second;
+  }
+  int errors() const { return errors_; }
+
+ private:
+  std::map<std::string, std::map<std::string, double>> values_;
+  int errors_ = 0;
+};
+
+void print_ratio(const char* what, std::optional<double> num, std::optional<double> den) {
+  if (num && den && *den > 0.0) {
+    std::printf("  %-34s %10.2f\n", what, *num / *den);
+  } else {
+    std::printf("  %-34s %10s\n", what, "n/a");
+  }
+}
+
+void print_target(const char* what, std::optional<double> value, double target, bool at_least,
+                  const char* unit) {
+  if (!value) {
+    std::printf("  %-34s %10s   (target %s %g %s)\n", what, "n/a", at_least ? ">=" : "<=", target,
+                unit);
+    return;
+  }
+  const bool met = at_least ? *value >= target : *value <= target;
+  std::printf("  %-34s %10.2f %s (target %s %g): %s\n", what, *value, unit,
+              at_least ? ">=" : "<=", target, met ? "met" : "NOT met");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  RecordingReporter reporter(isatty(fileno(stdout)) != 0);
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  benchmark::Shutdown();
+
+  const auto mega = [](std::optional<double> v) -> std::optional<double> {
+    if (v) return *v / 1e6;
+    return std::nullopt;
+  };
+  const auto fast = mega(reporter.get("BM_FastPath", "pix/s"));
+  const auto model = mega(reporter.get("BM_CycleModel", "cycles/s"));
+  const auto rtl = mega(reporter.get("BM_Rtl", "cycles/s"));
+  const auto golden = mega(reporter.get("BM_Golden", "pix/s"));
+  std::optional<double> host_us;
+  if (const auto fps = reporter.get("BM_HostPose", "frames/s"); fps && *fps > 0.0) {
+    host_us = 1e6 / *fps;
+  }
+
+  std::printf("\nceilnav bench: %d frames of %dx%d (demo corridor), rates per CPU second%s\n",
+              kFrames, workload().cfg.width, workload().cfg.height,
+              CEILNAV_BENCH_RTL ? "" : " (no RTL in this build)");
+  std::printf("ratios (1 pixel = 1 cycle):\n");
+  print_ratio("fast path / golden", fast, golden);
+  print_ratio("fast path / cycle model", fast, model);
+  print_ratio("cycle model / RTL", model, rtl);
+  print_ratio("fast path / RTL", fast, rtl);
+  print_ratio("golden / RTL", golden, rtl);
+  std::printf("targets (issue 4):\n");
+  print_target("fast path [Mpix/s]", fast, 100.0, true, "Mpix/s");
+  print_target("cycle model / RTL",
+               model && rtl && *rtl > 0.0 ? std::optional(*model / *rtl) : std::nullopt, 10.0, true,
+               "x");
+  print_target("RTL [Mcycles/s]", rtl, 5.0, true, "Mcycles/s");
+  print_target("host pose [us/frame]", host_us, 20.0, false, "us/frame");
+  // A failed check (results differing from the fast path) fails the program.
+  if (reporter.errors() > 0) {
+    std::printf("%d benchmark(s) failed their check\n", reporter.errors());
+    return 1;
+  }
+  return 0;
+}
