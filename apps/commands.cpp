@@ -268,6 +268,8 @@ SampledPose sample_pose(std::mt19937_64& rng, double pitch_min, double pitch_max
   return s;
 }
 
+}  // namespace
+
 host::CameraConfig scaled_camera(int width, int height, bool distortion) {
   host::CameraConfig c = default_camera();
   const double sx = width / 640.0, sy = height / 480.0;
@@ -279,8 +281,6 @@ host::CameraConfig scaled_camera(int width, int height, bool distortion) {
   if (!distortion) c.distortion_coefficients = {};
   return c;
 }
-
-}  // namespace
 
 int run_render(const RenderOptions& o) {
   if (o.frames < 1) throw std::runtime_error("--frames must be at least 1");

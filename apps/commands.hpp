@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <string>
 
+#include "host/camera_config.hpp"
+
 namespace ceilnav::app {
 
 struct DemoOptions {
@@ -60,5 +62,9 @@ struct AccuracyOptions {
   double offset_rms_limit_m = 0.001;
 };
 int run_accuracy(const AccuracyOptions& o);
+
+// The default camera (apps/default_scene.hpp) for another frame size: focal
+// lengths and principal point scaled from 640x480.
+host::CameraConfig scaled_camera(int width, int height, bool distortion);
 
 }  // namespace ceilnav::app

@@ -6,6 +6,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/frame_io.hpp"
+#include "apps/profile.hpp"
 #include "host/camera_config_io.hpp"
 #include "stream/version.hpp"
 
@@ -100,12 +101,60 @@ int main(int argc, char** argv) {
   acc_cmd->add_flag("--require", acc.require,
                     "Exit 1 unless yaw RMS <= 0.02 deg, offset RMS <= 1 mm and every frame ok");
 
+  ProfileOptions prof;
+  auto* prof_cmd = app.add_subcommand(
+      "profile",
+      "Stream frames cycle by cycle through the device model or RTL and report, per frame and "
+      "in summary: cycles, pixels per tvalid cycle (II), bubbles, EOF-to-irq latency, run FIFO "
+      "high-water and drops, host bus words and time; CSV and PNG plots with --out");
+  prof_cmd
+      ->add_option("--backend", prof.backend,
+                   "model (C++ cycle-level device) or rtl (Verilated RTL)")
+      ->check(CLI::IsMember({"model", "rtl"}))
+      ->capture_default_str();
+  prof_cmd->add_option("--frames", prof.frames_dir,
+                       "Folder of PNG frames (default: render the demo corridor)");
+  prof_cmd->add_option("--scene", prof.scene_file,
+                       "Scene/camera YAML for --frames (default: <frames>/scene.yaml)");
+  prof_cmd->add_option("--out", prof.out_dir,
+                       "Folder for profile.csv, profile_summary.csv and the PNG plots (created); "
+                       "without it only the summary is printed");
+  prof_cmd->add_option("--width", prof.width, "Rendered frame width, 1..1920")
+      ->capture_default_str();
+  prof_cmd->add_option("--height", prof.height, "Rendered frame height, 1..1080")
+      ->capture_default_str();
+  prof_cmd
+      ->add_option("--blanking", prof.blanking,
+                   "none (back to back), vga (640x480@60-like line and frame blanking, scaled) "
+                   "or random (random tvalid gaps)")
+      ->capture_default_str();
+  prof_cmd
+      ->add_option("--gap-probability", prof.gap_probability,
+                   "random blanking: probability of an idle cycle before a pixel (repeated)")
+      ->capture_default_str();
+  prof_cmd
+      ->add_option("--backpressure", prof.backpressure,
+                   "Fraction of cycles with m_axis_runs tready low (random), in [0, 1)")
+      ->capture_default_str();
+  prof_cmd->add_option("--tapes", prof.tapes, "Parallel tapes in the rendered scene, 1..8")
+      ->capture_default_str();
+  prof_cmd->add_option("--count", prof.count,
+                       "Frames (default 10 rendered, or every frame of --frames)");
+  prof_cmd->add_option("--seed", prof.seed, "Seed of gaps, back-pressure and render noise")
+      ->capture_default_str();
+  prof_cmd->add_option("--sweep", prof.sweep_duties, "Back-pressure duties of the throughput sweep")
+      ->delimiter(',')
+      ->capture_default_str();
+  prof_cmd->add_option("--sweep-frames", prof.sweep_frames, "Frames per sweep point (0: no sweep)")
+      ->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*demo_cmd) return run_demo(demo);
     if (*run_cmd) return run_frames(run);
     if (*render_cmd) return run_render(render);
     if (*acc_cmd) return run_accuracy(acc);
+    if (*prof_cmd) return run_profile(prof);
   } catch (const ceilnav::host::ConfigError& e) {
     std::cerr << "ceilnav: scene error: " << e.what() << '\n';
     return 1;

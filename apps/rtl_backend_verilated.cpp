@@ -64,6 +64,7 @@ class RtlDevice : public host::SimDevice {
     for (size_t i = 0; i < w.size(); ++i) w[i] = top_->m_axis_runs_tdata_o[i];
     o.m_axis_runs.tdata = stream::unpack_run_beat(w);
     o.irq = top_->irq_o;
+    o.s_axis_video_tready = top_->s_axis_video_tready_o;
     return o;
   }
 

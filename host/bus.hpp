@@ -24,6 +24,7 @@ class BusError : public std::runtime_error {
 struct FrameFeed {
   double gap_probability = 0.0;  // before every pixel, idle cycles while a coin with P = this hits
   uint32_t blanking_cycles = 0;  // idle cycles after the frame's last pixel
+  uint32_t line_blanking_cycles = 0;  // idle cycles after every line but the last
 };
 
 class Bus {

@@ -11,7 +11,12 @@ class ModelDevice : public SimDevice {
   explicit ModelDevice(uint32_t run_fifo_depth) : top_(run_fifo_depth) {}
   void reset() override { top_.reset(); }
   SimOutputs outputs() const override {
-    return {top_.s_axil_out(), top_.m_axis_runs(), top_.irq()};
+    SimOutputs o;
+    o.s_axil = top_.s_axil_out();
+    o.m_axis_runs = top_.m_axis_runs();
+    o.irq = top_.irq();
+    o.s_axis_video_tready = true;  // CeilnavTop::clock: s_axis_video_tready is always 1
+    return o;
   }
   void clock(const SimInputs& in) override {
     top_.clock(in.s_axis_video, in.s_axil, in.m_axis_runs_tready);

@@ -26,14 +26,16 @@ bool SimBus::chance(double p) {
 
 void SimBus::tick() {
   SimInputs in;
+  const SimOutputs out = device_->outputs();
   if (!video_.empty()) {
     in.s_axis_video = video_.front();
-    video_.pop_front();
+    // An idle cycle passes whatever tready is; a valid beat waits for tready.
+    if (out.s_axis_video_tready || !in.s_axis_video.tvalid) video_.pop_front();
   }
   in.s_axil = master_.drive();
   in.m_axis_runs_tready = !chance(options_.run_tready_low_probability);
-  const SimOutputs out = device_->outputs();
   if (out.m_axis_runs.tvalid && in.m_axis_runs_tready) runs_.push_back(out.m_axis_runs);
+  if (observer_ != nullptr) observer_->on_edge(cycles_, in, out);
   device_->clock(in);
   master_.edge(out.s_axil);
   ++cycles_;
@@ -99,6 +101,7 @@ void SimBus::queue_frame(const uint8_t* grey, int width, int height, size_t stri
       b.tlast = x == width - 1;
       video_.push_back(b);
     }
+    if (y + 1 < height) video_.insert(video_.end(), feed.line_blanking_cycles, stream::VideoBeat{});
   }
   video_.insert(video_.end(), feed.blanking_cycles, stream::VideoBeat{});
 }

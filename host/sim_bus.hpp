@@ -28,6 +28,9 @@ struct SimOutputs {
   stream::AxiLiteOut s_axil;
   stream::RunBeat m_axis_runs;
   bool irq = false;
+  // A beat on s_axis_video is taken on an edge only with tready high before it;
+  // SimBus holds the beat otherwise.
+  bool s_axis_video_tready = true;
 };
 
 class SimDevice {
@@ -38,6 +41,15 @@ class SimDevice {
   virtual SimOutputs outputs() const = 0;
   // Applies the inputs and clocks one rising edge.
   virtual void clock(const SimInputs& in) = 0;
+};
+
+// Sees every edge SimBus clocks (profiling, protocol monitors): the inputs
+// sampled on edge `edge` (numbered from 0 = SimBus::cycles() before it) and
+// the registered outputs before it, against which the handshakes are made.
+class SimObserver {
+ public:
+  virtual ~SimObserver() = default;
+  virtual void on_edge(uint64_t edge, const SimInputs& in, const SimOutputs& out) = 0;
 };
 
 struct SimBusOptions {
@@ -65,6 +77,8 @@ class SimBus : public Bus {
   uint8_t write32_resp(uint32_t addr, uint32_t value, uint8_t strb = 0xF);
   // Video beats not yet streamed.
   size_t video_backlog() const { return video_.size(); }
+  // Called on every edge from now on (nullptr: none); not owned.
+  void set_observer(SimObserver* observer) { observer_ = observer; }
 
  protected:
   SimDevice& device() { return *device_; }
@@ -81,6 +95,7 @@ class SimBus : public Bus {
   std::deque<stream::VideoBeat> video_;
   std::vector<stream::RunBeat> runs_;
   uint64_t cycles_ = 0;
+  SimObserver* observer_ = nullptr;
 };
 
 }  // namespace ceilnav::host

@@ -2,6 +2,12 @@
 // geometry, numbers the pixels and realigns after framing errors.
 // Cycle-exact twin of stream/frame_check.cpp (FrameCheck::clock); see
 // docs/blocks/frame_check.md. Latency 1 cycle, all outputs registered.
+//
+// Timing: the end-of-line / end-of-frame tests of the next pixel are kept in
+// registers (x_last_q, y_last_q), computed one edge ahead from the position
+// counters, so no comparator or subtractor sits between the input beat and
+// the registers. An SOF beat is checked at (0, 0) against its own
+// configuration, where only "width <= 1" / "height <= 1" matter.
 module frame_check #(
   parameter int unsigned CoordBits   = 11,  // x, y in [0, 2^CoordBits - 1]
   parameter int unsigned CounterBits = 32
@@ -39,178 +45,152 @@ module frame_check #(
   output logic [CounterBits-1:0] frames_aborted_o
 );
 
-  localparam int unsigned GeomBits = CoordBits + 1;  // holds 1 .. 2^CoordBits
+  localparam int unsigned GeomBits = CoordBits + 1;  // cfg ports: 0 .. 2^GeomBits - 1
   localparam logic [GeomBits-1:0] MaxGeom = GeomBits'(1) << CoordBits;
-  localparam logic [GeomBits-1:0] MinGeom = GeomBits'(1);
-  localparam logic [CounterBits-1:0] CounterMax = '1;
+  localparam logic [CoordBits-1:0] MaxCoord = '1;
 
   localparam logic [1:0] StIdle    = 2'd0;  // expecting an SOF
   localparam logic [1:0] StInFrame = 2'd1;  // x_q/y_q: position of the next pixel
   localparam logic [1:0] StDiscard = 2'd2;  // after an error: drop until the next SOF
 
   logic [1:0]           state_d, state_q;
-  logic [GeomBits-1:0]  width_d, width_q;
-  logic [GeomBits-1:0]  height_d, height_q;
-  logic [CoordBits-1:0] x_d, x_q;
-  logic [CoordBits-1:0] y_d, y_q;
+  // Latched geometry minus one: the last column / line of the open frame.
+  logic [CoordBits-1:0] x_max_q, y_max_q;
+  logic [CoordBits-1:0] x_d, x_q, y_d, y_q;
+  logic                 x_last_d, x_last_q;  // x_q == x_max_q
+  logic                 y_last_d, y_last_q;  // y_q == y_max_q
 
-  logic                 pix_valid_d, pix_valid_q;
-  logic [7:0]           pix_grey_d, pix_grey_q;
-  logic [CoordBits-1:0] pix_x_d, pix_x_q;
-  logic [CoordBits-1:0] pix_y_d, pix_y_q;
-  logic                 pix_sof_d, pix_sof_q;
-  logic                 pix_eol_d, pix_eol_q;
-  logic                 pix_eof_d, pix_eof_q;
-  logic                 pix_abort_d, pix_abort_q;
-
-  logic [CounterBits-1:0] early_eol_q, late_eol_q, early_sof_q, missing_sof_q;
-  logic [CounterBits-1:0] frames_ok_q, frames_aborted_q;
-  logic inc_early_eol, inc_late_eol, inc_early_sof, inc_missing_sof;
-  logic inc_frames_ok, inc_frames_aborted;
+  logic                 pix_valid_q, pix_sof_q, pix_eol_q, pix_eof_q, pix_abort_d, pix_abort_q;
+  logic [7:0]           pix_grey_q;
+  logic [CoordBits-1:0] pix_x_q, pix_y_q;
 
   assign s_axis_video_tready_o = 1'b1;  // the camera cannot be stalled
 
-  // (Function results by name: yosys 0.23 has no `return`.)
-  function automatic logic [GeomBits-1:0] clamp_geom(logic [GeomBits-1:0] value);
-    clamp_geom = (value < MinGeom) ? MinGeom : (value > MaxGeom) ? MaxGeom : value;
+  // clamp(cfg, 1, 2^CoordBits) - 1 (function results by name: yosys 0.23 has no `return`).
+  function automatic logic [CoordBits-1:0] geom_max(logic [GeomBits-1:0] cfg);
+    geom_max = (cfg == '0) ? '0 : (cfg > MaxGeom) ? MaxCoord : CoordBits'(cfg - GeomBits'(1));
   endfunction
 
-  function automatic logic [CounterBits-1:0] sat_inc(logic [CounterBits-1:0] value, logic inc);
-    sat_inc = (inc && value != CounterMax) ? value + CounterBits'(1) : value;
-  endfunction
+  // ---------------------------------------------------------------------------
+  // Classification of this beat.
+  logic sof_beat, in_frame, checked, at_eol, at_eof, eol_error, good, early_sof, missing_sof;
+  logic cfg_w_le1, cfg_h_le1, cfg_w_is2, cfg_h_is2;
 
-  // The SOF beat restarts the checker with the configuration of this edge; the
-  // pixel is then checked against that geometry at position (0, 0).
-  logic                 sof_beat;
-  logic [GeomBits-1:0]  width_eff, height_eff;
-  logic [CoordBits-1:0] x_eff, y_eff;
-  logic                 at_eol, at_eof, first_pixel;
+  assign cfg_w_le1 = cfg_width_i[CoordBits:1] == '0;
+  assign cfg_h_le1 = cfg_height_i[CoordBits:1] == '0;
+  assign cfg_w_is2 = cfg_width_i == GeomBits'(2);
+  assign cfg_h_is2 = cfg_height_i == GeomBits'(2);
 
   assign sof_beat    = s_axis_video_tvalid_i & s_axis_video_tuser_i;
-  assign width_eff   = sof_beat ? clamp_geom(cfg_width_i) : width_q;
-  assign height_eff  = sof_beat ? clamp_geom(cfg_height_i) : height_q;
-  assign x_eff       = sof_beat ? '0 : x_q;
-  assign y_eff       = sof_beat ? '0 : y_q;
-  assign at_eol      = {1'b0, x_eff} == width_eff - GeomBits'(1);
-  assign at_eof      = at_eol && ({1'b0, y_eff} == height_eff - GeomBits'(1));
-  assign first_pixel = x_eff == '0 && y_eff == '0;
+  assign in_frame    = state_q == StInFrame;
+  // The SOF pixel is at (0, 0) of its own geometry: the last column iff width <= 1.
+  assign at_eol      = sof_beat ? cfg_w_le1 : x_last_q;
+  assign at_eof      = at_eol & (sof_beat ? cfg_h_le1 : y_last_q);
+  assign checked     = s_axis_video_tvalid_i & (s_axis_video_tuser_i | in_frame);
+  assign eol_error   = checked & (s_axis_video_tlast_i ^ at_eol);
+  assign good        = checked & ~(s_axis_video_tlast_i ^ at_eol);
+  assign early_sof   = sof_beat & in_frame;
+  assign missing_sof = s_axis_video_tvalid_i & ~s_axis_video_tuser_i & (state_q == StIdle);
+
+  // In a frame, (x, y) = (0, 0) only on the SOF beat (x or y moves on with
+  // every good pixel until the EOF), so the first pixel is the SOF beat. A
+  // malformed SOF pixel never opened its frame: no abort for it.
+  assign pix_abort_d = early_sof | (eol_error & ~sof_beat);
+
+  // ---------------------------------------------------------------------------
+  // Position of the next pixel and the registered last-column/line tests.
+  logic [CoordBits-1:0] x_inc, y_inc;
+  assign x_inc = x_q + CoordBits'(1);
+  assign y_inc = y_q + CoordBits'(1);
 
   always_comb begin
     state_d  = state_q;
-    width_d  = width_q;
-    height_d = height_q;
     x_d      = x_q;
     y_d      = y_q;
-
-    pix_valid_d = 1'b0;
-    pix_grey_d  = 8'd0;
-    pix_x_d     = '0;
-    pix_y_d     = '0;
-    pix_sof_d   = 1'b0;
-    pix_eol_d   = 1'b0;
-    pix_eof_d   = 1'b0;
-    pix_abort_d = 1'b0;
-
-    inc_early_eol      = 1'b0;
-    inc_late_eol       = 1'b0;
-    inc_early_sof      = 1'b0;
-    inc_missing_sof    = 1'b0;
-    inc_frames_ok      = 1'b0;
-    inc_frames_aborted = 1'b0;
-
-    if (s_axis_video_tvalid_i) begin
-      if (sof_beat && state_q == StInFrame) begin
-        // Early SOF: abort the open frame; this pixel starts the next one.
-        inc_early_sof      = 1'b1;
-        inc_frames_aborted = 1'b1;
-        pix_abort_d        = 1'b1;
-      end
+    x_last_d = x_last_q;
+    y_last_d = y_last_q;
+    if (missing_sof || eol_error) begin
+      state_d = StDiscard;
+    end else if (good) begin
+      state_d = at_eof ? StIdle : StInFrame;
       if (sof_beat) begin
-        width_d  = width_eff;
-        height_d = height_eff;
+        // Next pixel: (1, 0), or (0, 1) in a frame one pixel wide.
+        x_d      = at_eol ? '0 : CoordBits'(1);
+        y_d      = at_eol ? CoordBits'(1) : '0;
+        x_last_d = at_eol ? 1'b1 : cfg_w_is2;
+        y_last_d = at_eol ? cfg_h_is2 : cfg_h_le1;
+      end else if (at_eol) begin
         x_d      = '0;
-        y_d      = '0;
-      end
-
-      if (!sof_beat && state_q == StIdle) begin
-        // A pixel outside any frame (also an extra line after a full frame).
-        inc_missing_sof = 1'b1;
-        state_d         = StDiscard;
-      end else if (sof_beat || state_q == StInFrame) begin
-        if (s_axis_video_tlast_i != at_eol) begin
-          inc_early_eol = s_axis_video_tlast_i;
-          inc_late_eol  = ~s_axis_video_tlast_i;
-          // A malformed SOF pixel never opened its frame: no abort for it.
-          if (!first_pixel) begin
-            inc_frames_aborted = 1'b1;
-            pix_abort_d        = 1'b1;
-          end
-          state_d = StDiscard;
-        end else begin
-          pix_valid_d = 1'b1;
-          pix_grey_d  = s_axis_video_tdata_i;
-          pix_x_d     = x_eff;
-          pix_y_d     = y_eff;
-          pix_sof_d   = first_pixel;
-          pix_eol_d   = at_eol;
-          pix_eof_d   = at_eof;
-          if (at_eof) begin
-            inc_frames_ok = 1'b1;
-            state_d       = StIdle;
-          end else if (at_eol) begin
-            state_d = StInFrame;
-            x_d     = '0;
-            y_d     = y_eff + CoordBits'(1);
-          end else begin
-            state_d = StInFrame;
-            x_d     = x_eff + CoordBits'(1);
-          end
-        end
+        y_d      = y_inc;
+        x_last_d = x_max_q == '0;
+        y_last_d = y_inc == y_max_q;
+      end else begin
+        x_d      = x_inc;
+        x_last_d = x_inc == x_max_q;
       end
     end
   end
 
+  // ---------------------------------------------------------------------------
+  // Saturating error counters: the carry out of q + 1 is "q is all ones".
+  logic [5:0] inc;  // early_eol, late_eol, early_sof, missing_sof, frames_ok, frames_aborted
+  logic [6*CounterBits-1:0] cnt_q;  // counter i at [i*CounterBits +: CounterBits]
+  assign inc[0] = eol_error & s_axis_video_tlast_i;
+  assign inc[1] = eol_error & ~s_axis_video_tlast_i;
+  assign inc[2] = early_sof;
+  assign inc[3] = missing_sof;
+  assign inc[4] = good & at_eof;
+  assign inc[5] = pix_abort_d;
+
+  for (genvar i = 0; i < 6; i++) begin : g_counter
+    logic [CounterBits:0] sum;
+    assign sum = {1'b0, cnt_q[i*CounterBits +: CounterBits]} + (CounterBits + 1)'(1);
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) begin
+        cnt_q[i*CounterBits +: CounterBits] <= '0;
+      end else if (inc[i] && !sum[CounterBits]) begin
+        cnt_q[i*CounterBits +: CounterBits] <= sum[CounterBits-1:0];
+      end
+    end
+  end
+
+  // ---------------------------------------------------------------------------
+  // Registers.
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      state_q          <= StIdle;
-      width_q          <= MinGeom;
-      height_q         <= MinGeom;
-      x_q              <= '0;
-      y_q              <= '0;
-      pix_valid_q      <= 1'b0;
-      pix_grey_q       <= 8'd0;
-      pix_x_q          <= '0;
-      pix_y_q          <= '0;
-      pix_sof_q        <= 1'b0;
-      pix_eol_q        <= 1'b0;
-      pix_eof_q        <= 1'b0;
-      pix_abort_q      <= 1'b0;
-      early_eol_q      <= '0;
-      late_eol_q       <= '0;
-      early_sof_q      <= '0;
-      missing_sof_q    <= '0;
-      frames_ok_q      <= '0;
-      frames_aborted_q <= '0;
+      state_q     <= StIdle;
+      x_max_q     <= '0;
+      y_max_q     <= '0;
+      x_q         <= '0;
+      y_q         <= '0;
+      x_last_q    <= 1'b0;
+      y_last_q    <= 1'b0;
+      pix_valid_q <= 1'b0;
+      pix_grey_q  <= 8'd0;
+      pix_x_q     <= '0;
+      pix_y_q     <= '0;
+      pix_sof_q   <= 1'b0;
+      pix_eol_q   <= 1'b0;
+      pix_eof_q   <= 1'b0;
+      pix_abort_q <= 1'b0;
     end else begin
-      state_q          <= state_d;
-      width_q          <= width_d;
-      height_q         <= height_d;
-      x_q              <= x_d;
-      y_q              <= y_d;
-      pix_valid_q      <= pix_valid_d;
-      pix_grey_q       <= pix_grey_d;
-      pix_x_q          <= pix_x_d;
-      pix_y_q          <= pix_y_d;
-      pix_sof_q        <= pix_sof_d;
-      pix_eol_q        <= pix_eol_d;
-      pix_eof_q        <= pix_eof_d;
-      pix_abort_q      <= pix_abort_d;
-      early_eol_q      <= sat_inc(early_eol_q, inc_early_eol);
-      late_eol_q       <= sat_inc(late_eol_q, inc_late_eol);
-      early_sof_q      <= sat_inc(early_sof_q, inc_early_sof);
-      missing_sof_q    <= sat_inc(missing_sof_q, inc_missing_sof);
-      frames_ok_q      <= sat_inc(frames_ok_q, inc_frames_ok);
-      frames_aborted_q <= sat_inc(frames_aborted_q, inc_frames_aborted);
+      state_q  <= state_d;
+      x_q      <= x_d;
+      y_q      <= y_d;
+      x_last_q <= x_last_d;
+      y_last_q <= y_last_d;
+      if (sof_beat) begin
+        x_max_q <= geom_max(cfg_width_i);
+        y_max_q <= geom_max(cfg_height_i);
+      end
+      pix_valid_q <= good;
+      pix_grey_q  <= good ? s_axis_video_tdata_i : 8'd0;
+      pix_x_q     <= good && !sof_beat ? x_q : '0;
+      pix_y_q     <= good && !sof_beat ? y_q : '0;
+      pix_sof_q   <= good & sof_beat;
+      pix_eol_q   <= good & at_eol;
+      pix_eof_q   <= good & at_eof;
+      pix_abort_q <= pix_abort_d;
     end
   end
 
@@ -222,19 +202,22 @@ module frame_check #(
   assign m_pix_eol_o      = pix_eol_q;
   assign m_pix_eof_o      = pix_eof_q;
   assign m_pix_abort_o    = pix_abort_q;
-  assign early_eol_o      = early_eol_q;
-  assign late_eol_o       = late_eol_q;
-  assign early_sof_o      = early_sof_q;
-  assign missing_sof_o    = missing_sof_q;
-  assign frames_ok_o      = frames_ok_q;
-  assign frames_aborted_o = frames_aborted_q;
+  assign early_eol_o      = cnt_q[0*CounterBits +: CounterBits];
+  assign late_eol_o       = cnt_q[1*CounterBits +: CounterBits];
+  assign early_sof_o      = cnt_q[2*CounterBits +: CounterBits];
+  assign missing_sof_o    = cnt_q[3*CounterBits +: CounterBits];
+  assign frames_ok_o      = cnt_q[4*CounterBits +: CounterBits];
+  assign frames_aborted_o = cnt_q[5*CounterBits +: CounterBits];
 
 `ifndef SYNTHESIS
-  // Geometry limits 1 .. 2^CoordBits, and the open frame's position inside it.
-  GeometryInRange: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      width_q >= MinGeom && width_q <= MaxGeom && height_q >= MinGeom && height_q <= MaxGeom);
+  // The registered tests agree with the position, which stays inside the
+  // open frame; (0, 0) is never the next pixel of an open frame.
+  LastFlagsExact: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      state_q != StInFrame || (x_last_q == (x_q == x_max_q) && y_last_q == (y_q == y_max_q)));
   PositionInFrame: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      state_q != StInFrame || ({1'b0, x_q} < width_q && {1'b0, y_q} < height_q));
+      state_q != StInFrame || (x_q <= x_max_q && y_q <= y_max_q));
+  NotFirstPixel: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      state_q != StInFrame || x_q != '0 || y_q != '0);
   StateLegal: assert property (@(posedge clk_i) disable iff (!rst_ni) state_q != 2'd3);
 `endif
 

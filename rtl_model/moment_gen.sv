@@ -1,8 +1,10 @@
-// moment_gen: m00 m10 m01 m20 m11 m02 of the LUT remap value and of the mask,
-// once per frame, as seed 003 eq. 20-28 builds them: counters and adders make
-// the factors p_ab = x^a y^b, each bit plane of the pixel is ANDed with them
-// into a plane accumulator F_k, and m_ab = sum_k 2^k F_k is formed by a Horner
-// unit over 8 cycles after EOF. No multiplier anywhere.
+// moment_gen: m00 m10 m01 m20 m11 m02 of the LUT remap value I and of the
+// mask, once per frame. Counters and adders, no multiplier on the pixel path:
+// cascaded accumulators along the row (A1 += I, A2 += A1, A3 += A2) and down
+// the frame (at each row end F00 += A1, F01 += F00, F02 += F01, F10 += A2,
+// F11 += F10, F20 += A3) give the sums of I weighted by u = W - x and
+// v = H - y. After EOF a bit-serial unit (six serial x parallel multipliers
+// by the 12-bit W and H) forms the moments, grey pass then mask pass.
 // Cycle model: stream/moment_gen.{hpp,cpp}; spec: docs/blocks/moment_gen.md.
 
 module moment_gen (
@@ -22,6 +24,7 @@ module moment_gen (
   input  logic        s_lut_mask_i,
 
   output logic        done_o,          // one-cycle pulse: the moment outputs were just updated
+  output logic        done_next_o,     // done_o rises on the next edge (Moore)
   output logic [29:0] grey_m00_o,
   output logic [39:0] grey_m10_o,
   output logic [39:0] grey_m01_o,
@@ -38,244 +41,418 @@ module moment_gen (
   output logic [31:0] overrun_count_o
 );
 
-  // Widths for W = H = 2^CoordBits (stream/limits.hpp), C = CoordBits; the
-  // closed forms equal the static_asserts in stream/moment_gen.hpp.
+  // Widths for W = H = 2048 (stream/limits.hpp); each equals a static_assert
+  // of namespace moment_gen_widths in stream/moment_gen.hpp (G = grey, K = mask).
   localparam int unsigned CoordBits = 11;
-  localparam int unsigned Planes = 8;
-  localparam int unsigned FactorBits = 2 * CoordBits;  // x^2, x y, y^2 <= (W-1)^2
-  localparam int unsigned F00Bits = 2 * CoordBits + 1;  // sum 1 = W H = 2^(2C)
-  localparam int unsigned F10Bits = 3 * CoordBits - 1;  // sum x = H W (W-1) / 2 < 2^(3C-1)
-  localparam int unsigned F20Bits = 4 * CoordBits - 1;  // sum x^2 ~ W^4 / 3
-  localparam int unsigned F11Bits = 4 * CoordBits - 2;  // sum x y = (W (W-1) / 2)^2 < 2^(4C-2)
-  localparam int unsigned PixelBits = 8;                // m_ab <= 255 F_ab
-  localparam int unsigned M00Bits = 2 * CoordBits + PixelBits;  // 255 2^(2C) < 2^(2C+8)
-  localparam int unsigned M10Bits = F10Bits + PixelBits;
-  localparam int unsigned M20Bits = F20Bits + PixelBits;
-  localparam int unsigned M11Bits = F11Bits + PixelBits;
-  localparam logic [2:0] LastStep = 3'(Planes - 1);
+  localparam int unsigned DimBits = 12;  // W, H in 1 .. 2048
+  // Row accumulators A1, A2, A3.
+  localparam int unsigned GA1 = 19, GA2 = 29, GA3 = 39;
+  localparam int unsigned KA1 = 12, KA2 = 22, KA3 = 31;
+  // Frame accumulators F00 F10 F01 F20 F11 F02.
+  localparam int unsigned GF00 = 30, GF10 = 40, GF01 = 40, GF20 = 50, GF11 = 50, GF02 = 50;
+  localparam int unsigned KF00 = 23, KF10 = 33, KF01 = 33, KF20 = 42, KF11 = 43, KF02 = 42;
+  // Combine shift registers: F_ab on entry, m_ab on exit (the wider of the two).
+  localparam int unsigned GR00 = 30, GR10 = 40, GR01 = 40, GR20 = 51, GR11 = 50, GR02 = 51;
+  localparam int unsigned KR00 = 23, KR10 = 33, KR01 = 33, KR20 = 43, KR11 = 43, KR02 = 43;
+  localparam int unsigned GreyPass = 51;  // widest grey register
+  localparam int unsigned MaskPass = 43;
+
+  // Combine schedule, as the value of cnt_q before the edge (cnt_q = 0 after
+  // the EOF edge): snapshot loads, then pass bit k of a register of width N
+  // is read at k < N and written at 1 <= k <= N (one stream register between).
+  localparam int unsigned CntBits = 7;
+  localparam logic [CntBits-1:0] Load0 = 7'd1;  // F00 final after edge EOF+1
+  localparam logic [CntBits-1:0] Load1 = 7'd2;  // F10, F01
+  localparam logic [CntBits-1:0] Load2 = 7'd3;  // F20, F11, F02
+  localparam int unsigned GreyStart = 4;
+  localparam int unsigned MaskStart = GreyStart + GreyPass;  // shares the grey pass's last edge
+  localparam logic [CntBits-1:0] DoneCnt = CntBits'(MaskStart + MaskPass + 1);  // 99
 
   // ---------------------------------------------------------------------------
-  // Factor generator (eq. 23-25): registers hold the factors of the NEXT pixel.
-  logic [CoordBits-1:0]  x_q, y_q, x_d, y_d;
-  logic [FactorBits-1:0] p20_q, p11_q, p02_q, p20_d, p11_d, p02_d;
-  logic                  frame_open_q, frame_open_d;
+  // Stage 0: the pixel. row_start / first_row describe the pixel on the input.
+  logic take, eof_take, row_start, first_row;
+  logic frame_open_q, row_start_q, first_row_q;
 
-  logic                  take;
-  logic [CoordBits-1:0]  x, y;          // factors of the pixel on the input
-  logic [FactorBits-1:0] p20, p11, p02;
-
-  assign take = s_lut_valid_i & (s_lut_sof_i | frame_open_q);
-  // Top of screen / left margin: every factor of the SOF pixel is 0.
-  assign x   = s_lut_sof_i ? '0 : x_q;
-  assign y   = s_lut_sof_i ? '0 : y_q;
-  assign p20 = s_lut_sof_i ? '0 : p20_q;
-  assign p11 = s_lut_sof_i ? '0 : p11_q;
-  assign p02 = s_lut_sof_i ? '0 : p02_q;
-
-  always_comb begin
-    x_d = x_q;
-    y_d = y_q;
-    p20_d = p20_q;
-    p11_d = p11_q;
-    p02_d = p02_q;
-    frame_open_d = frame_open_q;
-    if (take) begin
-      frame_open_d = ~s_lut_eof_i;
-      if (s_lut_eol_i) begin
-        x_d = '0;
-        p20_d = '0;
-        p11_d = '0;
-        y_d = y + 11'd1;
-        p02_d = p02 + {10'd0, y, 1'b1};  // (y+1)^2 = y^2 + 2y + 1: shift, carry-in
-      end else begin
-        x_d = x + 11'd1;
-        p20_d = p20 + {10'd0, x, 1'b1};  // (x+1)^2 = x^2 + 2x + 1
-        p11_d = p11 + {11'd0, y};        // (x+1) y = x y + y
-        y_d = y;
-        p02_d = p02;
-      end
-    end else if (s_lut_abort_i) begin
-      frame_open_d = 1'b0;  // the partial sums are never snapshot
-    end
-  end
-
-  // ---------------------------------------------------------------------------
-  // Plane accumulators (eq. 26-28): F_k,ab += bit_k(I) ? p_ab : 0. Plane
-  // index Planes is the mask. On the SOF pixel the adders start from 0.
-  // One flat vector per factor, plane k at [k*Bits +: Bits] (Yosys 0.23 reads
-  // no packed 2-D arrays).
-  localparam int unsigned Sets = Planes + 1;
-  logic [Sets*F00Bits-1:0] acc00_q, acc00_d, snap00_q, snap00_d;
-  logic [Sets*F10Bits-1:0] acc10_q, acc10_d, snap10_q, snap10_d;
-  logic [Sets*F10Bits-1:0] acc01_q, acc01_d, snap01_q, snap01_d;
-  logic [Sets*F20Bits-1:0] acc20_q, acc20_d, snap20_q, snap20_d;
-  logic [Sets*F11Bits-1:0] acc11_q, acc11_d, snap11_q, snap11_d;
-  logic [Sets*F20Bits-1:0] acc02_q, acc02_d, snap02_q, snap02_d;
-  logic [Planes:0] plane_bit;
-
-  assign plane_bit = {s_lut_mask_i, s_lut_remap_i};
-
-  for (genvar k = 0; k <= Planes; k++) begin : g_plane
-    localparam int unsigned K = k;
-    // AND gates: the factor if this plane's bit is set, else 0.
-    logic [F00Bits-1:0] and00;
-    logic [F10Bits-1:0] and10, and01;
-    logic [F20Bits-1:0] and20, and02;
-    logic [F11Bits-1:0] and11;
-    assign and00 = F00Bits'(plane_bit[K]);
-    assign and10 = F10Bits'(x) & {F10Bits{plane_bit[K]}};
-    assign and01 = F10Bits'(y) & {F10Bits{plane_bit[K]}};
-    assign and20 = F20Bits'(p20) & {F20Bits{plane_bit[K]}};
-    assign and11 = F11Bits'(p11) & {F11Bits{plane_bit[K]}};
-    assign and02 = F20Bits'(p02) & {F20Bits{plane_bit[K]}};
-
-    logic [F00Bits-1:0] a00;
-    logic [F10Bits-1:0] a10, a01;
-    logic [F20Bits-1:0] a20, a02;
-    logic [F11Bits-1:0] a11;
-    assign a00 = s_lut_sof_i ? '0 : acc00_q[K*F00Bits +: F00Bits];
-    assign a10 = s_lut_sof_i ? '0 : acc10_q[K*F10Bits +: F10Bits];
-    assign a01 = s_lut_sof_i ? '0 : acc01_q[K*F10Bits +: F10Bits];
-    assign a20 = s_lut_sof_i ? '0 : acc20_q[K*F20Bits +: F20Bits];
-    assign a11 = s_lut_sof_i ? '0 : acc11_q[K*F11Bits +: F11Bits];
-    assign a02 = s_lut_sof_i ? '0 : acc02_q[K*F20Bits +: F20Bits];
-
-    assign acc00_d[K*F00Bits +: F00Bits] = take ? a00 + and00 : acc00_q[K*F00Bits +: F00Bits];
-    assign acc10_d[K*F10Bits +: F10Bits] = take ? a10 + and10 : acc10_q[K*F10Bits +: F10Bits];
-    assign acc01_d[K*F10Bits +: F10Bits] = take ? a01 + and01 : acc01_q[K*F10Bits +: F10Bits];
-    assign acc20_d[K*F20Bits +: F20Bits] = take ? a20 + and20 : acc20_q[K*F20Bits +: F20Bits];
-    assign acc11_d[K*F11Bits +: F11Bits] = take ? a11 + and11 : acc11_q[K*F11Bits +: F11Bits];
-    assign acc02_d[K*F20Bits +: F20Bits] = take ? a02 + and02 : acc02_q[K*F20Bits +: F20Bits];
-  end
-
-  // ---------------------------------------------------------------------------
-  // Snapshot and Horner combine (eq. 27). The snapshot of the grey planes is
-  // a shift register: step s reads plane Planes-1-s from the top slot, so no
-  // plane multiplexer is needed. The snapshot may be reloaded on the edge at
-  // which the combine reads its last plane (F_0), not earlier: an EOF that
-  // comes sooner is an overrun and its frame is dropped.
-  logic       combine_busy_q, combine_busy_d;
-  logic [2:0] combine_step_q, combine_step_d;  // plane Planes-1-step is added at the next edge
-  logic       last_step;
-  logic       eof_take, snap_load;
-  logic [31:0] overrun_count_q, overrun_count_d;
-
-  assign last_step = combine_step_q == LastStep;
+  assign take      = s_lut_valid_i & (s_lut_sof_i | frame_open_q);
   assign eof_take  = take & s_lut_eof_i;
-  assign snap_load = eof_take & (~combine_busy_q | last_step);
+  assign row_start = s_lut_sof_i | row_start_q;
+  assign first_row = s_lut_sof_i | first_row_q;
 
-  always_comb begin
-    snap00_d = snap00_q;
-    snap10_d = snap10_q;
-    snap01_d = snap01_q;
-    snap20_d = snap20_q;
-    snap11_d = snap11_q;
-    snap02_d = snap02_q;
-    if (snap_load) begin
-      snap00_d = acc00_d;
-      snap10_d = acc10_d;
-      snap01_d = acc01_d;
-      snap20_d = acc20_d;
-      snap11_d = acc11_d;
-      snap02_d = acc02_d;
-    end else if (combine_busy_q) begin
-      // Shift the grey planes up by one; the mask (index Planes) holds.
-      for (int unsigned k = Planes - 1; k > 0; k--) begin
-        snap00_d[k*F00Bits +: F00Bits] = snap00_q[(k-1)*F00Bits +: F00Bits];
-        snap10_d[k*F10Bits +: F10Bits] = snap10_q[(k-1)*F10Bits +: F10Bits];
-        snap01_d[k*F10Bits +: F10Bits] = snap01_q[(k-1)*F10Bits +: F10Bits];
-        snap20_d[k*F20Bits +: F20Bits] = snap20_q[(k-1)*F20Bits +: F20Bits];
-        snap11_d[k*F11Bits +: F11Bits] = snap11_q[(k-1)*F11Bits +: F11Bits];
-        snap02_d[k*F20Bits +: F20Bits] = snap02_q[(k-1)*F20Bits +: F20Bits];
-      end
-    end
-  end
-
-  logic [M00Bits-1:0] h00_q, h00_d;
-  logic [M10Bits-1:0] h10_q, h10_d, h01_q, h01_d;
-  logic [M20Bits-1:0] h20_q, h20_d, h02_q, h02_d;
-  logic [M11Bits-1:0] h11_q, h11_d;
-  logic               first_step;
-
-  assign first_step = combine_step_q == 3'd0;
-
-  // h = 2 h + F (h = F on the first, MSB, plane). 2 h is a shift.
-  always_comb begin
-    h00_d = h00_q;
-    h10_d = h10_q;
-    h01_d = h01_q;
-    h20_d = h20_q;
-    h11_d = h11_q;
-    h02_d = h02_q;
-    if (combine_busy_q) begin
-      h00_d = (first_step ? '0 : {h00_q[M00Bits-2:0], 1'b0})
-            + M00Bits'(snap00_q[(Planes-1)*F00Bits +: F00Bits]);
-      h10_d = (first_step ? '0 : {h10_q[M10Bits-2:0], 1'b0})
-            + M10Bits'(snap10_q[(Planes-1)*F10Bits +: F10Bits]);
-      h01_d = (first_step ? '0 : {h01_q[M10Bits-2:0], 1'b0})
-            + M10Bits'(snap01_q[(Planes-1)*F10Bits +: F10Bits]);
-      h20_d = (first_step ? '0 : {h20_q[M20Bits-2:0], 1'b0})
-            + M20Bits'(snap20_q[(Planes-1)*F20Bits +: F20Bits]);
-      h11_d = (first_step ? '0 : {h11_q[M11Bits-2:0], 1'b0})
-            + M11Bits'(snap11_q[(Planes-1)*F11Bits +: F11Bits]);
-      h02_d = (first_step ? '0 : {h02_q[M20Bits-2:0], 1'b0})
-            + M20Bits'(snap02_q[(Planes-1)*F20Bits +: F20Bits]);
-    end
-  end
-
-  logic combine_done;
-  assign combine_done = combine_busy_q & last_step;
-
-  always_comb begin
-    combine_busy_d = combine_busy_q;
-    combine_step_d = combine_step_q;
-    if (combine_busy_q) begin
-      combine_step_d = last_step ? 3'd0 : combine_step_q + 3'd1;
-      combine_busy_d = ~last_step;
-    end
-    if (snap_load) begin
-      combine_busy_d = 1'b1;
-      combine_step_d = 3'd0;
-    end
-  end
-
-  always_comb begin
-    overrun_count_d = overrun_count_q;
-    if (eof_take && !snap_load && overrun_count_q != 32'hFFFF_FFFF) begin
-      overrun_count_d = overrun_count_q + 32'd1;
-    end
-  end
-
-  // ---------------------------------------------------------------------------
-  // Registers.
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      x_q <= '0;
-      y_q <= '0;
-      p20_q <= '0;
-      p11_q <= '0;
-      p02_q <= '0;
       frame_open_q <= 1'b0;
-      acc00_q <= '0;
-      acc10_q <= '0;
-      acc01_q <= '0;
-      acc20_q <= '0;
-      acc11_q <= '0;
-      acc02_q <= '0;
-      snap00_q <= '0;
-      snap10_q <= '0;
-      snap01_q <= '0;
-      snap20_q <= '0;
-      snap11_q <= '0;
-      snap02_q <= '0;
-      combine_busy_q <= 1'b0;
-      combine_step_q <= 3'd0;
-      h00_q <= '0;
-      h10_q <= '0;
-      h01_q <= '0;
-      h20_q <= '0;
-      h11_q <= '0;
-      h02_q <= '0;
+      row_start_q  <= 1'b0;
+      first_row_q  <= 1'b0;
+    end else if (take) begin
+      frame_open_q <= ~s_lut_eof_i;
+      row_start_q  <= s_lut_eol_i;
+      first_row_q  <= first_row & ~s_lut_eol_i;
+    end else if (s_lut_abort_i) begin
+      frame_open_q <= 1'b0;  // the partial sums are never combined
+    end
+  end
+
+  // The cascade is skewed: stage k works on the pixel taken k edges before.
+  logic [2:1] val_q, rs_q;  // stage k: valid pixel, first of its row
+  logic [3:1] eol_q, fr_q;  // stage k: valid row end, in the frame's first row
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      val_q <= '0;
+      rs_q  <= '0;
+      eol_q <= '0;
+      fr_q  <= '0;
+    end else begin
+      val_q <= {val_q[1], take};
+      rs_q  <= {rs_q[1], row_start};
+      eol_q <= {eol_q[2:1], take & s_lut_eol_i};
+      fr_q  <= {fr_q[2:1], first_row};
+    end
+  end
+
+  // Row accumulators. `start ? add : acc + add` keeps the start mux behind the
+  // adder, where it shares the sum's LUT (iCE40: one LC per bit).
+  logic [GA1-1:0] ga1_q;
+  logic [GA2-1:0] ga2_q;
+  logic [GA3-1:0] ga3_q;
+  logic [KA1-1:0] ka1_q;
+  logic [KA2-1:0] ka2_q;
+  logic [KA3-1:0] ka3_q;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      ga1_q <= '0;
+      ka1_q <= '0;
+    end else if (take) begin
+      ga1_q <= row_start ? GA1'(s_lut_remap_i) : ga1_q + GA1'(s_lut_remap_i);
+      ka1_q <= row_start ? KA1'(s_lut_mask_i) : ka1_q + KA1'(s_lut_mask_i);
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      ga2_q <= '0;
+      ka2_q <= '0;
+    end else if (val_q[1]) begin
+      ga2_q <= rs_q[1] ? GA2'(ga1_q) : ga2_q + GA2'(ga1_q);
+      ka2_q <= rs_q[1] ? KA2'(ka1_q) : ka2_q + KA2'(ka1_q);
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      ga3_q <= '0;
+      ka3_q <= '0;
+    end else if (val_q[2]) begin
+      ga3_q <= rs_q[2] ? GA3'(ga2_q) : ga3_q + GA3'(ga2_q);
+      ka3_q <= rs_q[2] ? KA3'(ka2_q) : ka3_q + KA3'(ka2_q);
+    end
+  end
+
+  // Frame accumulators, updated at row ends; the first row starts them.
+  logic [GF00-1:0] gf00_q;
+  logic [GF10-1:0] gf10_q;
+  logic [GF01-1:0] gf01_q;
+  logic [GF20-1:0] gf20_q;
+  logic [GF11-1:0] gf11_q;
+  logic [GF02-1:0] gf02_q;
+  logic [KF00-1:0] kf00_q;
+  logic [KF10-1:0] kf10_q;
+  logic [KF01-1:0] kf01_q;
+  logic [KF20-1:0] kf20_q;
+  logic [KF11-1:0] kf11_q;
+  logic [KF02-1:0] kf02_q;
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      gf00_q <= '0;
+      kf00_q <= '0;
+    end else if (eol_q[1]) begin
+      gf00_q <= fr_q[1] ? GF00'(ga1_q) : gf00_q + GF00'(ga1_q);
+      kf00_q <= fr_q[1] ? KF00'(ka1_q) : kf00_q + KF00'(ka1_q);
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      gf10_q <= '0;
+      gf01_q <= '0;
+      kf10_q <= '0;
+      kf01_q <= '0;
+    end else if (eol_q[2]) begin
+      gf10_q <= fr_q[2] ? GF10'(ga2_q) : gf10_q + GF10'(ga2_q);
+      gf01_q <= fr_q[2] ? GF01'(gf00_q) : gf01_q + GF01'(gf00_q);
+      kf10_q <= fr_q[2] ? KF10'(ka2_q) : kf10_q + KF10'(ka2_q);
+      kf01_q <= fr_q[2] ? KF01'(kf00_q) : kf01_q + KF01'(kf00_q);
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      gf20_q <= '0;
+      gf11_q <= '0;
+      gf02_q <= '0;
+      kf20_q <= '0;
+      kf11_q <= '0;
+      kf02_q <= '0;
+    end else if (eol_q[3]) begin
+      gf20_q <= fr_q[3] ? GF20'(ga3_q) : gf20_q + GF20'(ga3_q);
+      gf11_q <= fr_q[3] ? GF11'(gf10_q) : gf11_q + GF11'(gf10_q);
+      gf02_q <= fr_q[3] ? GF02'(gf01_q) : gf02_q + GF02'(gf01_q);
+      kf20_q <= fr_q[3] ? KF20'(ka3_q) : kf20_q + KF20'(ka3_q);
+      kf11_q <= fr_q[3] ? KF11'(kf10_q) : kf11_q + KF11'(kf10_q);
+      kf02_q <= fr_q[3] ? KF02'(kf01_q) : kf02_q + KF02'(kf01_q);
+    end
+  end
+
+  // ---------------------------------------------------------------------------
+  // Combine control. An EOF is accepted if no combine runs or this is its done
+  // edge (kCombineCycles edges after the last accepted EOF); otherwise the
+  // frame is dropped and counted.
+  logic               busy_q;
+  logic [CntBits-1:0] cnt_q;
+  logic               accept, last_step;
+  logic [31:0]        overrun_count_q;
+  logic [DimBits-1:0] w_q, h_q;
+
+  assign last_step = busy_q & (cnt_q == DoneCnt);
+  assign accept    = eof_take & (~busy_q | last_step);
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      busy_q          <= 1'b0;
+      cnt_q           <= '0;
+      overrun_count_q <= '0;
+      w_q             <= '0;
+      h_q             <= '0;
+    end else begin
+      if (accept) begin
+        busy_q <= 1'b1;
+        cnt_q  <= '0;
+        // Frames are rectangular (frame_check): W, H from the EOF pixel.
+        w_q    <= DimBits'(s_lut_x_i) + DimBits'(1);
+        h_q    <= DimBits'(s_lut_y_i) + DimBits'(1);
+      end else if (last_step) begin
+        busy_q <= 1'b0;
+      end else if (busy_q) begin
+        cnt_q <= cnt_q + CntBits'(1);
+      end
+      if (eof_take && !accept && overrun_count_q != 32'hFFFF_FFFF) begin
+        overrun_count_q <= overrun_count_q + 32'd1;
+      end
+    end
+  end
+
+  // Pass windows on cnt_q: in_pass(s, n) = s <= cnt < s + n.
+  function automatic logic in_win(logic [CntBits-1:0] c, int unsigned s, int unsigned n);
+    in_win = (c >= CntBits'(s)) && (c < CntBits'(s + n));
+  endfunction
+
+  logic load0, load1, load2, mask_pass, ser_clr;
+  assign load0     = busy_q & (cnt_q == Load0);
+  assign load1     = busy_q & (cnt_q == Load1);
+  assign load2     = busy_q & (cnt_q == Load2);
+  assign mask_pass = cnt_q >= CntBits'(MaskStart);
+  // Serial state starts each pass from 0 (carry 1 for subtractors).
+  assign ser_clr   = (cnt_q == CntBits'(GreyStart)) | (cnt_q == CntBits'(MaskStart));
+
+  // ---------------------------------------------------------------------------
+  // Combine shift registers (snapshot of F, then m), LSB out, MSB in.
+  logic [GR00-1:0] gr00_q;
+  logic [GR10-1:0] gr10_q;
+  logic [GR01-1:0] gr01_q;
+  logic [GR20-1:0] gr20_q;
+  logic [GR11-1:0] gr11_q;
+  logic [GR02-1:0] gr02_q;
+  logic [KR00-1:0] kr00_q;
+  logic [KR10-1:0] kr10_q;
+  logic [KR01-1:0] kr01_q;
+  logic [KR20-1:0] kr20_q;
+  logic [KR11-1:0] kr11_q;
+  logic [KR02-1:0] kr02_q;
+
+  // Serial result bits m_ab (bit k-1 during pass bit k), below.
+  logic m00_s, m10_s, m01_s, m20_s, m11_s, m02_s;
+
+  // Shift enables: pass bits 0 .. N of the register's own pass.
+  logic [5:0] g_sh, k_sh;
+  assign g_sh[0] = busy_q & in_win(cnt_q, GreyStart, GR00 + 1);
+  assign g_sh[1] = busy_q & in_win(cnt_q, GreyStart, GR10 + 1);
+  assign g_sh[2] = busy_q & in_win(cnt_q, GreyStart, GR01 + 1);
+  assign g_sh[3] = busy_q & in_win(cnt_q, GreyStart, GR20 + 1);
+  assign g_sh[4] = busy_q & in_win(cnt_q, GreyStart, GR11 + 1);
+  assign g_sh[5] = busy_q & in_win(cnt_q, GreyStart, GR02 + 1);
+  assign k_sh[0] = busy_q & in_win(cnt_q, MaskStart, KR00 + 1);
+  assign k_sh[1] = busy_q & in_win(cnt_q, MaskStart, KR10 + 1);
+  assign k_sh[2] = busy_q & in_win(cnt_q, MaskStart, KR01 + 1);
+  assign k_sh[3] = busy_q & in_win(cnt_q, MaskStart, KR20 + 1);
+  assign k_sh[4] = busy_q & in_win(cnt_q, MaskStart, KR11 + 1);
+  assign k_sh[5] = busy_q & in_win(cnt_q, MaskStart, KR02 + 1);
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      gr00_q <= '0;
+      kr00_q <= '0;
+    end else begin
+      if (load0)         gr00_q <= gf00_q;
+      else if (g_sh[0])  gr00_q <= {m00_s, gr00_q[GR00-1:1]};
+      if (load0)         kr00_q <= kf00_q;
+      else if (k_sh[0])  kr00_q <= {m00_s, kr00_q[KR00-1:1]};
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      gr10_q <= '0;
+      gr01_q <= '0;
+      kr10_q <= '0;
+      kr01_q <= '0;
+    end else begin
+      if (load1)         gr10_q <= gf10_q;
+      else if (g_sh[1])  gr10_q <= {m10_s, gr10_q[GR10-1:1]};
+      if (load1)         gr01_q <= gf01_q;
+      else if (g_sh[2])  gr01_q <= {m01_s, gr01_q[GR01-1:1]};
+      if (load1)         kr10_q <= kf10_q;
+      else if (k_sh[1])  kr10_q <= {m10_s, kr10_q[KR10-1:1]};
+      if (load1)         kr01_q <= kf01_q;
+      else if (k_sh[2])  kr01_q <= {m01_s, kr01_q[KR01-1:1]};
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      gr20_q <= '0;
+      gr11_q <= '0;
+      gr02_q <= '0;
+      kr20_q <= '0;
+      kr11_q <= '0;
+      kr02_q <= '0;
+    end else begin
+      if (load2)         gr20_q <= GR20'(gf20_q);
+      else if (g_sh[3])  gr20_q <= {m20_s, gr20_q[GR20-1:1]};
+      if (load2)         gr11_q <= gf11_q;
+      else if (g_sh[4])  gr11_q <= {m11_s, gr11_q[GR11-1:1]};
+      if (load2)         gr02_q <= GR02'(gf02_q);
+      else if (g_sh[5])  gr02_q <= {m02_s, gr02_q[GR02-1:1]};
+      if (load2)         kr20_q <= KR20'(kf20_q);
+      else if (k_sh[3])  kr20_q <= {m20_s, kr20_q[KR20-1:1]};
+      if (load2)         kr11_q <= kf11_q;
+      else if (k_sh[4])  kr11_q <= {m11_s, kr11_q[KR11-1:1]};
+      if (load2)         kr02_q <= KR02'(kf02_q);
+      else if (k_sh[5])  kr02_q <= {m02_s, kr02_q[KR02-1:1]};
+    end
+  end
+
+  // Operand streams F_ab, bit k of the pass in flight: the register's LSB
+  // while k < N, then 0 (F < 2^N). Registered: one pass bit behind cnt_q.
+  logic [5:0] f_d, f_q;  // {F02, F11, F20, F01, F10, F00}
+  always_comb begin
+    if (mask_pass) begin
+      f_d[0] = kr00_q[0] & in_win(cnt_q, MaskStart, KR00);
+      f_d[1] = kr10_q[0] & in_win(cnt_q, MaskStart, KR10);
+      f_d[2] = kr01_q[0] & in_win(cnt_q, MaskStart, KR01);
+      f_d[3] = kr20_q[0] & in_win(cnt_q, MaskStart, KR20);
+      f_d[4] = kr11_q[0] & in_win(cnt_q, MaskStart, KR11);
+      f_d[5] = kr02_q[0] & in_win(cnt_q, MaskStart, KR02);
+    end else begin
+      f_d[0] = gr00_q[0] & in_win(cnt_q, GreyStart, GR00);
+      f_d[1] = gr10_q[0] & in_win(cnt_q, GreyStart, GR10);
+      f_d[2] = gr01_q[0] & in_win(cnt_q, GreyStart, GR01);
+      f_d[3] = gr20_q[0] & in_win(cnt_q, GreyStart, GR20);
+      f_d[4] = gr11_q[0] & in_win(cnt_q, GreyStart, GR11);
+      f_d[5] = gr02_q[0] & in_win(cnt_q, GreyStart, GR02);
+    end
+  end
+
+  // Serial datapath state has no reset: ser_clr initialises it before use.
+  logic f10_dly_q, f01_dly_q, f20_dly_q, f02_dly_q;  // 2 F_ab: the stream one bit later
+  always_ff @(posedge clk_i) begin
+    f_q <= f_d;
+    if (ser_clr) begin
+      f10_dly_q <= 1'b0;
+      f01_dly_q <= 1'b0;
+      f20_dly_q <= 1'b0;
+      f02_dly_q <= 1'b0;
+    end else begin
+      f10_dly_q <= f_q[1];
+      f01_dly_q <= f_q[2];
+      f20_dly_q <= f_q[3];
+      f02_dly_q <= f_q[5];
+    end
+  end
+
+  // Six serial x parallel multipliers, product bit k out with operand bit k:
+  // carry-save partial sums s, c of the part of the product above bit k.
+  localparam int unsigned Muls = 6;
+  // split_var: the bits of these vectors feed each other (no loop).
+  logic [Muls-1:0]         mul_x /* verilator split_var */, mul_p /* verilator split_var */;
+  logic [Muls*DimBits-1:0] mul_k;
+
+  for (genvar i = 0; i < Muls; i++) begin : g_mul
+    logic [DimBits-1:0] k, pp, s, c_q, sum, carry;
+    logic [DimBits-2:0] s_q;
+    assign k     = mul_k[i*DimBits +: DimBits];
+    assign pp    = k & {DimBits{mul_x[i]}};
+    assign s     = {1'b0, s_q};
+    assign sum   = s ^ c_q ^ pp;
+    assign carry = (s & c_q) | (s & pp) | (c_q & pp);
+    always_ff @(posedge clk_i) begin
+      if (ser_clr) begin
+        s_q <= '0;
+        c_q <= '0;
+      end else begin
+        s_q <= sum[DimBits-1:1];
+        c_q <= carry;
+      end
+    end
+    assign mul_p[i] = sum[0];
+  end
+
+  // Ten serial adders / subtractors (a - b = a + ~b + 1).
+  localparam int unsigned Adds = 10;
+  localparam logic [Adds-1:0] IsSub = 10'b10_1110_1110;  // adders 0, 4, 8 add; the rest subtract
+  logic [Adds-1:0] add_a /* verilator split_var */, add_b /* verilator split_var */;
+  logic [Adds-1:0] add_s /* verilator split_var */, add_c_q;
+  for (genvar i = 0; i < Adds; i++) begin : g_add
+    assign add_s[i] = add_a[i] ^ add_b[i] ^ IsSub[i] ^ add_c_q[i];
+  end
+  always_ff @(posedge clk_i) begin
+    if (ser_clr) add_c_q <= IsSub;
+    else add_c_q <= (add_a & (add_b ^ IsSub)) | (add_a & add_c_q) | ((add_b ^ IsSub) & add_c_q);
+  end
+
+  // m10 = W F00 - F10            m01 = H F00 - F01
+  // m20 = W (m10 - F10) + 2 F20 - F10 = W (W F00 - 2 F10) + (2 F20 - F10)
+  // m02 = H (H F00 - 2 F01) + (2 F02 - F01)
+  // m11 = W m01 + (F11 - H F10)
+  logic p_wf00, p_hf00, d1, d2, e20, e02, g11;
+  assign mul_k = {h_q, w_q, h_q, w_q, h_q, w_q};
+  assign mul_x[0] = f_q[0];          // W F00
+  assign mul_x[1] = f_q[0];          // H F00
+  assign mul_x[2] = d1;              // W (W F00 - 2 F10)
+  assign mul_x[3] = d2;              // H (H F00 - 2 F01)
+  assign mul_x[4] = m01_s;           // W m01
+  assign mul_x[5] = f_q[1];          // H F10
+  assign p_wf00 = mul_p[0];
+  assign p_hf00 = mul_p[1];
+
+  assign add_a[1] = p_wf00;   assign add_b[1] = f_q[1];      assign m10_s = add_s[1];
+  assign add_a[2] = p_wf00;   assign add_b[2] = f10_dly_q;   assign d1    = add_s[2];
+  assign add_a[3] = f20_dly_q; assign add_b[3] = f_q[1];     assign e20   = add_s[3];
+  assign add_a[0] = mul_p[2]; assign add_b[0] = e20;         assign m20_s = add_s[0];
+  assign add_a[5] = p_hf00;   assign add_b[5] = f_q[2];      assign m01_s = add_s[5];
+  assign add_a[6] = p_hf00;   assign add_b[6] = f01_dly_q;   assign d2    = add_s[6];
+  assign add_a[7] = f02_dly_q; assign add_b[7] = f_q[2];     assign e02   = add_s[7];
+  assign add_a[4] = mul_p[3]; assign add_b[4] = e02;         assign m02_s = add_s[4];
+  assign add_a[9] = f_q[4];   assign add_b[9] = mul_p[5];    assign g11   = add_s[9];
+  assign add_a[8] = mul_p[4]; assign add_b[8] = g11;         assign m11_s = add_s[8];
+  assign m00_s = f_q[0];
+
+  // ---------------------------------------------------------------------------
+  // Outputs: all registered; the moments load from the shift registers on
+  // the done edge.
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
       grey_m00_o <= '0;
       grey_m10_o <= '0;
       grey_m01_o <= '0;
@@ -288,73 +465,58 @@ module moment_gen (
       mask_m20_o <= '0;
       mask_m11_o <= '0;
       mask_m02_o <= '0;
-      done_o <= 1'b0;
-      overrun_count_q <= '0;
+      done_o     <= 1'b0;
     end else begin
-      x_q <= x_d;
-      y_q <= y_d;
-      p20_q <= p20_d;
-      p11_q <= p11_d;
-      p02_q <= p02_d;
-      frame_open_q <= frame_open_d;
-      acc00_q <= acc00_d;
-      acc10_q <= acc10_d;
-      acc01_q <= acc01_d;
-      acc20_q <= acc20_d;
-      acc11_q <= acc11_d;
-      acc02_q <= acc02_d;
-      snap00_q <= snap00_d;
-      snap10_q <= snap10_d;
-      snap01_q <= snap01_d;
-      snap20_q <= snap20_d;
-      snap11_q <= snap11_d;
-      snap02_q <= snap02_d;
-      combine_busy_q <= combine_busy_d;
-      combine_step_q <= combine_step_d;
-      h00_q <= h00_d;
-      h10_q <= h10_d;
-      h01_q <= h01_d;
-      h20_q <= h20_d;
-      h11_q <= h11_d;
-      h02_q <= h02_d;
-      if (combine_done) begin
-        grey_m00_o <= h00_d;
-        grey_m10_o <= h10_d;
-        grey_m01_o <= h01_d;
-        grey_m20_o <= h20_d;
-        grey_m11_o <= h11_d;
-        grey_m02_o <= h02_d;
-        mask_m00_o <= snap00_q[Planes*F00Bits +: F00Bits];
-        mask_m10_o <= snap10_q[Planes*F10Bits +: F10Bits];
-        mask_m01_o <= snap01_q[Planes*F10Bits +: F10Bits];
-        mask_m20_o <= snap20_q[Planes*F20Bits +: F20Bits];
-        mask_m11_o <= snap11_q[Planes*F11Bits +: F11Bits];
-        mask_m02_o <= snap02_q[Planes*F20Bits +: F20Bits];
+      if (last_step) begin
+        grey_m00_o <= gr00_q;
+        grey_m10_o <= gr10_q;
+        grey_m01_o <= gr01_q;
+        grey_m20_o <= gr20_q;
+        grey_m11_o <= gr11_q;
+        grey_m02_o <= gr02_q;
+        mask_m00_o <= kr00_q;
+        mask_m10_o <= kr10_q[31:0];
+        mask_m01_o <= kr01_q[31:0];
+        mask_m20_o <= kr20_q;
+        mask_m11_o <= kr11_q[41:0];
+        mask_m02_o <= kr02_q;
       end
-      done_o <= combine_done;
-      overrun_count_q <= overrun_count_d;
+      done_o <= last_step;
     end
   end
 
-  assign combine_busy_o  = combine_busy_q;
+  assign combine_busy_o  = busy_q;
+  assign done_next_o     = last_step;
   assign overrun_count_o = overrun_count_q;
 
   // The camera pixel itself is not used: moments are of the LUT output.
-  logic unused_grey;
-  assign unused_grey = ^s_lut_grey_i;
+  logic unused;
+  assign unused = ^{s_lut_grey_i, kr10_q[KR10-1:32], kr01_q[KR01-1:32], kr11_q[KR11-1:42]};
 
 `ifndef SYNTHESIS
-  // frame_check guarantees the pixel position; the counters must agree.
-  always_ff @(posedge clk_i) begin
-    if (rst_ni && take) begin
-      assert (s_lut_x_i == x && s_lut_y_i == y)
+  // frame_check guarantees the pixel position and rectangular frames; the
+  // cascade needs both (the C++ model throws std::logic_error instead).
+  logic [CoordBits-1:0] x_chk_q, y_chk_q, w_chk_q;
+  logic [CoordBits-1:0] x_chk, y_chk;
+  assign x_chk = s_lut_sof_i ? '0 : x_chk_q;
+  assign y_chk = s_lut_sof_i ? '0 : y_chk_q;
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      x_chk_q <= '0;
+      y_chk_q <= '0;
+      w_chk_q <= '0;
+    end else if (take) begin
+      assert (s_lut_x_i == x_chk && s_lut_y_i == y_chk)
       else $error("moment_gen: pixel (%0d, %0d) but counters (%0d, %0d)",
-                  s_lut_x_i, s_lut_y_i, x, y);
+                  s_lut_x_i, s_lut_y_i, x_chk, y_chk);
+      assert (!s_lut_eof_i || s_lut_eol_i) else $error("moment_gen: EOF before the row end");
+      assert (!s_lut_eol_i || first_row || x_chk == w_chk_q)
+      else $error("moment_gen: row of %0d pixels, the first had %0d", x_chk + 1, w_chk_q + 1);
+      x_chk_q <= s_lut_eol_i ? '0 : x_chk + CoordBits'(1);
+      y_chk_q <= s_lut_eol_i ? y_chk + CoordBits'(1) : y_chk;
+      if (s_lut_eol_i && first_row) w_chk_q <= x_chk;
     end
   end
-`else
-  logic unused_pos;
-  assign unused_pos = ^{s_lut_x_i, s_lut_y_i};
 `endif
 
 endmodule

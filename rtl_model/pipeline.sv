@@ -5,9 +5,11 @@
 //
 // Publication: the stage-3 EOF beat sampled on edge T is staged on edge T+1
 // (run stats and frame meta, if moment_gen did not drop the frame) and the
-// whole set is published on edge T+8, the edge after which moment_gen's
-// done_o is high (MomentGen::kCombineCycles = 8). The moments are not copied:
-// moment_gen's output registers change only on that edge.
+// whole set is published on the edge on which moment_gen raises done_o
+// (moment_gen's done_next_o is high before it; edge T+MomentGen::kCombineCycles).
+// The moments are not copied: moment_gen's output registers change only on
+// that edge. At most one staged set waits: moment_gen accepts the next EOF no
+// earlier than that edge, and it is staged one edge later.
 // The histogram is read through the histogram block's port; its result bank
 // switches on edge T+1 (Pipeline::kHistSwitchCycles after the video EOF).
 module pipeline #(
@@ -70,7 +72,6 @@ module pipeline #(
   output logic [FifoCountBits-1:0] run_fifo_occupancy_o
 );
 
-  localparam int unsigned PubDelay = 7;  // staging edge T+1 -> publishing edge T+8
   localparam int unsigned ErrFramesOk = 4;
 
   // ---------------------------------------------------------------------------
@@ -167,7 +168,7 @@ module pipeline #(
   // ---------------------------------------------------------------------------
   // Stage 3: histogram, moment_gen, run_scanner (all sample thresh_lut's output).
   logic [31:0] mom_overrun;
-  logic        mom_done, unused_mom_busy;
+  logic        mom_done, mom_done_next, unused_mom_busy;
   logic [29:0] g00;
   logic [39:0] g10, g01;
   logic [50:0] g20, g02;
@@ -214,6 +215,7 @@ module pipeline #(
     .s_lut_remap_i  (lut_remap),
     .s_lut_mask_i   (lut_mask),
     .done_o         (mom_done),
+    .done_next_o    (mom_done_next),
     .grey_m00_o     (g00),
     .grey_m10_o     (g10),
     .grey_m01_o     (g01),
@@ -272,7 +274,6 @@ module pipeline #(
   logic [MetaBits-1:0]    pend_meta_q;
   logic [31:0]            pend_overrun_q;  // overrun_count before that edge
   logic                   accept;
-  logic [PubDelay-1:0]    pub_sr_q;        // accepted frames on their way to publication
   logic [MetaBits-1:0]    staged_meta_q, res_meta_q;
   logic [RunStatBits-1:0] staged_runs_q, res_runs_q;
   logic                   res_valid_q;
@@ -288,7 +289,6 @@ module pipeline #(
       pend_q         <= 1'b0;
       pend_meta_q    <= '0;
       pend_overrun_q <= '0;
-      pub_sr_q       <= '0;
       staged_meta_q  <= '0;
       staged_runs_q  <= '0;
       res_meta_q     <= '0;
@@ -308,12 +308,11 @@ module pipeline #(
       pend_q         <= lut_valid & lut_eof;
       pend_meta_q    <= meta_lut_q;
       pend_overrun_q <= mom_overrun;
-      pub_sr_q       <= {pub_sr_q[PubDelay-2:0], accept};
       if (accept) begin
         staged_meta_q <= pend_meta_q;
         staged_runs_q <= {rs_high_water, rs_overflow, rs_row_limit, rs_emitted};
       end
-      if (pub_sr_q[PubDelay-1]) begin
+      if (mom_done_next) begin
         res_meta_q  <= staged_meta_q;
         res_runs_q  <= staged_runs_q;
         res_valid_q <= 1'b1;
@@ -339,15 +338,18 @@ module pipeline #(
   assign unused = ^{unused_fc_tready, unused_mom_busy, unused_hist_done, unused_rs_done};
 
 `ifndef SYNTHESIS
-  // The publication strobe is moment_gen's done: the staged set and the
-  // moments belong to one frame. (Unprovable only once overrun_count saturates.)
-  logic pub_q;
+  // Every publication has a staged set, and a set is never overwritten before
+  // it is published (see the header). Unprovable only once overrun_count saturates.
+  logic staged_pending_q;
   always_ff @(posedge clk_i or negedge rst_ni) begin
-    if (!rst_ni) pub_q <= 1'b0;
-    else         pub_q <= pub_sr_q[PubDelay-1];
+    if (!rst_ni)            staged_pending_q <= 1'b0;
+    else if (accept)        staged_pending_q <= 1'b1;
+    else if (mom_done_next) staged_pending_q <= 1'b0;
   end
-  PublishIsMomentDone: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      (mom_overrun != 32'hFFFF_FFFF) |-> (pub_q == mom_done));
+  StagedBeforePublish: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      mom_done_next |-> staged_pending_q);
+  OneStagedSet: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      accept |-> !staged_pending_q);
 `endif
 
 endmodule

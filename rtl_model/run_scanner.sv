@@ -3,6 +3,11 @@
 // through a FIFO onto an AXI4-Stream master, with one trailer beat per frame.
 // Cycle model: stream/run_scanner.{hpp,cpp}; spec: docs/blocks/run_scanner.md.
 //
+// Inputs are assumed legal as frame_check/thresh_lut make them (the C++ model
+// throws otherwise): pix.x/pix.y equal the block's own position counters, and
+// a beat carrying both abort and a pixel is an SOF (early SOF). Both are
+// checked by simulation assertions.
+//
 // m_axis_runs_tdata layout (pack_run_beat() in stream/run_scanner.hpp): no
 // field crosses a 32-bit word.
 //   [15:0] row (trailer: runs emitted, saturated)  [31:16] x_start (trailer: flags)
@@ -50,13 +55,16 @@ module run_scanner #(
   localparam int unsigned SumWBits = 19;    // 255 W: a run plus margins is clipped to the line
   localparam int unsigned SumXwBits = 29;   // 255 W (W-1) / 2
   localparam int unsigned RowRunBits = 11;  // ceil(W/2) runs per row
+  localparam int unsigned RunLenBits = 12;  // W pixels
   localparam int unsigned FrameRunBits = 22;  // H ceil(W/2) runs per frame
-  // FIFO entry: {tlast, sum_xw, sum_w, x_end, x_start, row}. row is 16 bits
-  // (trailer: the run count); x_start holds the trailer flags.
-  localparam int unsigned EntryBits = 1 + SumXwBits + SumWBits + 2 * CoordBits + 16;
-  localparam logic [15:0] FlagRowLimit = 16'h0001;
-  localparam logic [15:0] FlagOverflow = 16'h0002;
-  localparam logic [15:0] FlagAborted = 16'h0004;
+  // FIFO entry: {impl_t, tlast, sum_w, x_end, x_start, row} and, one edge
+  // later, sum_xw. row is 16 bits (trailer: the run count); x_start holds the
+  // trailer flags. impl_t: a run followed by the constant trailer {row 1,
+  // flags 0} (see "FIFO" below).
+  localparam int unsigned EntryBits = 2 + SumWBits + 2 * CoordBits + 16;
+  localparam logic [2:0] FlagRowLimit = 3'b001;
+  localparam logic [2:0] FlagOverflow = 3'b010;
+  localparam logic [2:0] FlagAborted = 3'b100;
   localparam logic [CountBits-1:0] Depth = CountBits'(FifoDepth);
 
   if (FifoDepth < 8 || (FifoDepth & (FifoDepth - 1)) != 0) begin : g_bad_depth
@@ -64,197 +72,249 @@ module run_scanner #(
   end
 
   // ---------------------------------------------------------------------------
+  // Configuration: latched at the SOF pixel, which already runs with the port
+  // value. The comparisons the run logic needs against it are kept as flags.
+  logic [7:0]  cfg_bg_q, cfg_bg;
+  logic [15:0] cfg_min_len_q, cfg_max_runs_q;
+  logic        min_le1_q, min_le2_q, max_nz_q, max_le1_q;
+  logic        min_le1, min_le2, max_nz, max_le1;
+  logic        sof;
+  assign sof     = s_lut_sof_i;
+  assign cfg_bg  = sof ? cfg_background_level_i : cfg_bg_q;
+  // (Small constants: written as zero tests, which Yosys maps onto LUTs, not
+  // onto a carry chain.)
+  logic min_hi_zero, max_hi_zero;
+  assign min_hi_zero = cfg_min_run_length_i[15:2] == '0;
+  assign max_hi_zero = cfg_max_runs_per_row_i[15:1] == '0;
+  assign min_le1 = sof ? min_hi_zero & ~cfg_min_run_length_i[1] : min_le1_q;
+  assign min_le2 = sof ? min_hi_zero & ~(&cfg_min_run_length_i[1:0]) : min_le2_q;
+  assign max_nz  = sof ? ~max_hi_zero | cfg_max_runs_per_row_i[0] : max_nz_q;
+  assign max_le1 = sof ? max_hi_zero : max_le1_q;
+
+  // ---------------------------------------------------------------------------
   // Row / run state.
-  logic [7:0]             cfg_bg_q;
-  logic [15:0]            cfg_min_len_q, cfg_max_runs_q;
-  logic [7:0]             cfg_bg;
-  logic [15:0]            cfg_min_len, cfg_max_runs;
-  logic                   frame_open_q, frame_open_d;
-  logic [CoordBits-1:0]   x_q, y_q;
-  logic [7:0]             prev_w_q;
-  logic                   in_run_q;
-  logic [CoordBits-1:0]   run_start_q;
-  logic [SumWBits-1:0]    run_sum_w_q;
-  logic [SumXwBits-1:0]   run_sum_xw_q;
-  logic [RowRunBits-1:0]  row_runs_q;
+  logic                  frame_open_q, frame_open_d, take;
+  logic                  row_start_q;  // the last pixel taken was an EOL: x = 0 now
+  logic [7:0]            prev_w_q;     // w of the previous pixel on the row
+  logic                  in_run_q;
+  logic [CoordBits-1:0]  run_start_q;
+  logic [SumWBits-1:0]   run_sum_w_q;
+  // sum_xw runs one pixel behind: the product of the pixel taken last is in
+  // xw_q, and the run's sum_xw through that pixel is xw_base_q + xw_q.
+  logic [CoordBits+7:0]  xw_q;
+  logic [SumXwBits-1:0]  xw_base_q, xw_base_d, sum_xw_last;
+  logic [RunLenBits-1:0] run_len_q;    // pixels of the open run so far
+  logic                  len_ge_q;     // run_len_q >= min_run_length
+  logic                  len1_ge_q;    // run_len_q + 1 >= min_run_length
+  logic [RowRunBits-1:0] row_runs_q;
+  logic                  row_full_q;   // row_runs_q >= max_runs_per_row
 
-  logic take;
-  assign take = s_lut_valid_i & (s_lut_sof_i | frame_open_q);
+  assign take = s_lut_valid_i & (sof | frame_open_q);
 
-  // The SOF pixel already runs with the configuration it latches.
-  assign cfg_bg       = s_lut_sof_i ? cfg_background_level_i : cfg_bg_q;
-  assign cfg_min_len  = s_lut_sof_i ? cfg_min_run_length_i : cfg_min_len_q;
-  assign cfg_max_runs = s_lut_sof_i ? cfg_max_runs_per_row_i : cfg_max_runs_q;
-
-  logic [CoordBits-1:0]  x, y, x_m1;
-  logic                  row_start, in_run;
-  logic [RowRunBits-1:0] row_runs;
-  logic [7:0]            w, prev_w;
-  assign x         = s_lut_sof_i ? '0 : x_q;
-  assign y         = s_lut_sof_i ? '0 : y_q;
-  assign x_m1      = x - 11'd1;
-  assign row_start = x == '0;
+  logic [CoordBits-1:0] x, y;
+  logic                 row_start, in_run, starts;
+  logic [7:0]           w, prev_w;
+  assign x         = s_lut_x_i;  // == the position counters (asserted below)
+  assign y         = s_lut_y_i;
+  assign row_start = sof | row_start_q;
   assign in_run    = ~row_start & in_run_q;  // SOF/EOL leave no run open
-  assign row_runs  = row_start ? '0 : row_runs_q;
-  assign w         = s_lut_remap_i > cfg_bg ? s_lut_remap_i - cfg_bg : 8'd0;
+  assign starts    = s_lut_mask_i & ~in_run;  // the previous pixel is the left margin
+  // w = max(0, remap - bg): one subtraction, its borrow clamps.
+  logic [8:0] w_diff, w_diff_q;
+  logic [7:0] w_q;  // w against the latched background level
+  assign w_diff    = {1'b0, s_lut_remap_i} - {1'b0, cfg_bg};
+  assign w         = w_diff[8] ? 8'd0 : w_diff[7:0];
+  assign w_diff_q  = {1'b0, s_lut_remap_i} - {1'b0, cfg_bg_q};
+  assign w_q       = w_diff_q[8] ? 8'd0 : w_diff_q[7:0];
   assign prev_w    = row_start ? 8'd0 : prev_w_q;  // left margin clipped at x = 0
 
-  // Run sums including this pixel (as a run pixel or as the right margin).
-  // x w is the one 11x8 multiplier; (x-1) prev_w is only needed when a run
-  // starts, and then it equals the x w of the previous pixel, so a register
-  // holds it.
-  logic [CoordBits+7:0]  xw;
-  logic [CoordBits+7:0]  prev_xw_q;  // (x-1) prev_w of the previous pixel on the row
-  logic [CoordBits-1:0]  start;
-  logic [SumWBits-1:0]   sum_w;
-  logic [SumXwBits-1:0]  sum_xw;
-  logic                  end_run;
-  logic [CoordBits-1:0]  run_end;
-  logic [CoordBits:0]    run_len;
-  logic                  run_long_enough;
-  assign xw = (CoordBits + 8)'(x) * (CoordBits + 8)'(w);
+  // Run sums including this pixel (as a run pixel or as the right margin):
+  // one 11x8 multiplier, registered (xw_q); sum_xw is completed in the next
+  // cycle and reaches the FIFO one edge late (run_fifo's late field). The
+  // (x-1) prev_w of a run that starts is the previous pixel's product, xw_q.
+  logic [CoordBits+7:0] xw;
+  logic [CoordBits-1:0] start, run_end;
+  logic [SumWBits-1:0]  sum_w;
+  logic                 end_run, long_enough;
+  // x = 0 on the SOF pixel, the only one that uses the port's background
+  // level: the product can take w_q, off the SOF multiplexer.
+  assign xw      = (CoordBits + 8)'(x) * (CoordBits + 8)'(w_q);
+  assign start   = starts ? x : run_start_q;
+  assign sum_w   = (starts ? SumWBits'(prev_w) : run_sum_w_q) + SumWBits'(w);
+  assign sum_xw_last = xw_base_q + SumXwBits'(xw_q);
+  assign xw_base_d   = ~starts ? sum_xw_last : row_start ? '0 : SumXwBits'(xw_q);
+  // The run ends at the EOL (mask 1: this pixel is its last) or at this mask-0
+  // pixel, its right margin.
+  assign end_run = s_lut_mask_i ? s_lut_eol_i : in_run;
+  assign run_end = s_lut_mask_i ? x : x - CoordBits'(1);
+  // Its length: run_len_q (right margin), run_len_q + 1 or 1 (ends at the EOL).
+  assign long_enough = ~s_lut_mask_i ? len_ge_q : in_run ? len1_ge_q : min_le1;
 
-  always_comb begin
-    start = run_start_q;
-    sum_w = run_sum_w_q + SumWBits'(w);
-    sum_xw = run_sum_xw_q + SumXwBits'(xw);
-    if (s_lut_mask_i && !in_run) begin  // run starts here; the previous pixel is its left margin
-      start = x;
-      sum_w = SumWBits'(prev_w) + SumWBits'(w);
-      sum_xw = (row_start ? '0 : SumXwBits'(prev_xw_q)) + SumXwBits'(xw);
-    end
-    end_run = 1'b0;
-    run_end = '0;
-    if (s_lut_mask_i && s_lut_eol_i) begin  // the run reaches the end of the line
-      end_run = 1'b1;
-      run_end = x;
-    end else if (!s_lut_mask_i && in_run) begin  // this mask-0 pixel is the right margin
-      end_run = 1'b1;
-      run_end = x_m1;
-    end
-  end
-  assign run_len = {1'b0, run_end} - {1'b0, start} + 12'd1;
-  assign run_long_enough = 16'(run_len) >= cfg_min_len;
+  // Row limit: runs emitted on this row so far < max_runs_per_row.
+  logic row_below_max;
+  assign row_below_max = row_start ? max_nz : ~row_full_q;
+
+  // Next run length and its comparisons, from registers only.
+  logic [RunLenBits-1:0] run_len_inc;
+  logic                  len2_ge_min, row_inc_full;
+  assign run_len_inc  = run_len_q + RunLenBits'(1);
+  assign len2_ge_min  = 16'(run_len_q) + 16'd2 >= cfg_min_len_q;
+  assign row_inc_full = 16'(row_runs_q) + 16'd1 >= cfg_max_runs_q;
 
   // ---------------------------------------------------------------------------
-  // Frame counters and FIFO writes: aborted-frame trailer (A), run (R),
-  // end-of-frame trailer (T), in that order, at tail, tail+1, ...
+  // Admission and frame counters. Writes per edge: aborted-frame trailer (A),
+  // run (R), end-of-frame trailer (T), in that order, admitted against the
+  // pre-edge occupancy n: A if n < depth, R if n + A + 1 < depth (one entry
+  // stays free for the trailer), T if n + A + R < depth.
+  logic [CountBits-1:0]    count_q, count_d;  // FIFO beats, not counting the output register
+  logic                    n_lt_d, n_lt_dm1, n_lt_dm2;
+  logic                    a_req, a_en, r_ok, r_en, t_req, t_en, drop_limit, drop_ovf, sof_take;
+  logic [RowRunBits-1:0]   row_runs_d;
+  logic                    row_full_d;
+
+  // count_q <= Depth, a power of two: the comparisons are bit tests.
+  assign n_lt_d   = ~count_q[CountBits-1];
+  assign n_lt_dm1 = n_lt_d & ~(&count_q[CountBits-2:0]);
+  assign n_lt_dm2 = n_lt_d & ~(&count_q[CountBits-2:1]);
+  assign sof_take = take & sof;
+  assign a_req    = s_lut_abort_i & frame_open_q;
+  assign t_req    = take & s_lut_eof_i;
+  assign a_en     = a_req & n_lt_d;
+  assign r_ok     = take & end_run & long_enough & row_below_max;
+  assign r_en     = r_ok & (a_en ? n_lt_dm2 : n_lt_dm1);
+  assign t_en     = t_req & (a_en & r_en ? n_lt_dm2 : a_en | r_en ? n_lt_dm1 : n_lt_d);
+  assign drop_limit = take & end_run & long_enough & ~row_below_max;
+  assign drop_ovf   = r_ok & ~r_en;
+  assign row_runs_d = (row_start ? '0 : row_runs_q) + RowRunBits'(r_ok);
+  assign row_full_d = row_start ? (r_ok ? max_le1 : ~max_nz) : (r_ok ? row_inc_full : row_full_q);
+
   logic [FrameRunBits-1:0] emitted_q, emitted_d, emitted_base;
-  logic [FrameRunBits-1:0] drop_limit_q, drop_limit_d, drop_limit_base;
-  logic [FrameRunBits-1:0] drop_ovf_q, drop_ovf_d, drop_ovf_base;
-  logic [CountBits-1:0]    high_water_q, high_water_d;
+  logic [FrameRunBits-1:0] drop_limit_q, drop_limit_d;
+  logic [FrameRunBits-1:0] drop_ovf_q, drop_ovf_d;
+  logic                    limit_nz_q, ovf_nz_q, limit_nz_d, ovf_nz_d;  // counter != 0
   logic                    sticky_q, sticky_a, sticky_d;
+  logic [CountBits-1:0]    high_water_q, high_water_d;
   logic [31:0]             trailers_lost_q, trailers_lost_d;
-  logic [CountBits-1:0]    fifo_count;  // pre-edge occupancy
-  logic [CountBits-1:0]    fifo_count_next;
-  logic [CountBits+1:0]    count_wide;
 
-  logic        a_req, a_en, r_en, t_req, t_en;
-  logic [15:0] a_flags, t_flags;
-  logic        row_run_ok;
-  logic [RowRunBits-1:0] row_runs_d;
-  logic [1:0]  lost;
-
-  assign count_wide = (CountBits + 2)'(fifo_count);
-  assign a_req = s_lut_abort_i & frame_open_q;
-  assign t_req = take & s_lut_eof_i;
-  assign a_en = a_req && count_wide < (CountBits + 2)'(Depth);
-  assign row_run_ok = take & end_run & run_long_enough & (16'(row_runs) < cfg_max_runs);
-  // One entry stays free for the trailer.
-  assign r_en = row_run_ok && count_wide + (CountBits + 2)'(a_en) + (CountBits + 2)'(1) <
-                              (CountBits + 2)'(Depth);
-
-  // The counters that the trailer of this edge's frame sees (after SOF reset).
-  assign emitted_base    = take & s_lut_sof_i ? '0 : emitted_q;
-  assign drop_limit_base = take & s_lut_sof_i ? '0 : drop_limit_q;
-  assign drop_ovf_base   = take & s_lut_sof_i ? '0 : drop_ovf_q;
+  assign emitted_base = sof_take ? '0 : emitted_q;
   assign emitted_d    = emitted_base + FrameRunBits'(r_en);
-  logic drop_limit, drop_ovf;
-  assign drop_limit   = take & end_run & run_long_enough & ~row_run_ok;
-  assign drop_ovf     = row_run_ok & ~r_en;
-  assign drop_limit_d = drop_limit_base + FrameRunBits'(drop_limit);
-  assign drop_ovf_d   = drop_ovf_base + FrameRunBits'(drop_ovf);
-  assign row_runs_d   = row_runs + RowRunBits'(row_run_ok);
+  assign drop_limit_d = (sof_take ? '0 : drop_limit_q) + FrameRunBits'(drop_limit);
+  assign drop_ovf_d   = (sof_take ? '0 : drop_ovf_q) + FrameRunBits'(drop_ovf);
+  assign limit_nz_d   = (~sof_take & limit_nz_q) | drop_limit;
+  assign ovf_nz_d     = (~sof_take & ovf_nz_q) | drop_ovf;
+  assign sticky_a     = a_req ? ~a_en : sticky_q;
+  assign sticky_d     = t_req ? ~t_en : sticky_a;
 
-  always_comb begin
-    a_flags = FlagAborted;
-    if (drop_limit_q != '0) a_flags |= FlagRowLimit;
-    if (drop_ovf_q != '0) a_flags |= FlagOverflow;
-    if (sticky_q) a_flags |= FlagOverflow;
-    t_flags = 16'd0;
-    if (drop_limit_d != '0) t_flags |= FlagRowLimit;
-    if (drop_ovf_d != '0) t_flags |= FlagOverflow;
-    if (sticky_a) t_flags |= FlagOverflow;
-  end
-  assign sticky_a = a_req ? ~a_en : sticky_q;
-  assign t_en = t_req && count_wide + (CountBits + 2)'(a_en) + (CountBits + 2)'(r_en) <
-                         (CountBits + 2)'(Depth);
-  assign sticky_d = t_req ? ~t_en : sticky_a;
-  logic a_lost, t_lost;
-  assign a_lost = a_req & ~a_en;
-  assign t_lost = t_req & ~t_en;
-  assign lost = 2'(a_lost) + 2'(t_lost);
+  // Trailer rows: runs emitted, saturated to 16 bits.
+  function automatic logic [15:0] sat16(logic [FrameRunBits-1:0] v);
+    sat16 = v > FrameRunBits'(16'hFFFF) ? 16'hFFFF : v[15:0];
+  endfunction
+  logic [15:0] a_row, t_row;
+  logic [2:0]  a_flags, t_flags;
+  // Both candidates from the register, the SOF and run choices last.
+  logic [15:0] row_inc;
+  assign a_row   = sat16(emitted_q);
+  assign row_inc = sat16(emitted_q + FrameRunBits'(1));
+  assign t_row   = sof_take ? 16'(r_en) : r_en ? row_inc : a_row;
+  assign a_flags = FlagAborted | (limit_nz_q ? FlagRowLimit : 3'b0) |
+                   (ovf_nz_q | sticky_q ? FlagOverflow : 3'b0);
+  assign t_flags = (limit_nz_d ? FlagRowLimit : 3'b0) | (ovf_nz_d | sticky_a ? FlagOverflow : 3'b0);
 
+  // Saturating trailers_lost += lost (0..2). lost comes late: it is added to
+  // the two low bits only, and their carry selects the upper 30 bits + 1,
+  // which is computed from the register alone.
+  logic        a_lost, t_lost;
+  logic [1:0]  lost;
+  logic [2:0]  lost_lo;
+  logic [29:0] lost_hi_inc;
+  logic        lost_hi_full;
+  assign a_lost       = a_req & ~a_en;
+  assign t_lost       = t_req & ~t_en;
+  assign lost         = 2'(a_lost) + 2'(t_lost);
+  assign lost_lo      = {1'b0, trailers_lost_q[1:0]} + {1'b0, lost};
+  assign lost_hi_inc  = trailers_lost_q[31:2] + 30'd1;
+  assign lost_hi_full = &trailers_lost_q[31:2];
   always_comb begin
-    trailers_lost_d = trailers_lost_q;
-    if (lost != 2'd0) begin
-      if (trailers_lost_q >= 32'hFFFF_FFFF - 32'(lost)) trailers_lost_d = 32'hFFFF_FFFF;
-      else trailers_lost_d = trailers_lost_q + 32'(lost);
+    trailers_lost_d = {trailers_lost_q[31:2], lost_lo[1:0]};
+    if (lost_lo[2]) begin
+      trailers_lost_d = lost_hi_full ? 32'hFFFF_FFFF : {lost_hi_inc, lost_lo[1:0]};
     end
   end
 
-  // Trailer row: runs emitted, saturated to 16 bits.
-  logic [15:0] a_row, t_row;
-  assign a_row = emitted_q > FrameRunBits'(16'hFFFF) ? 16'hFFFF : emitted_q[15:0];
-  assign t_row = emitted_d > FrameRunBits'(16'hFFFF) ? 16'hFFFF : emitted_d[15:0];
-
-  logic [EntryBits-1:0] a_entry, r_entry, t_entry;
-  assign a_entry = {1'b1, SumXwBits'(0), SumWBits'(0), CoordBits'(0), a_flags[CoordBits-1:0],
-                    a_row};
-  assign r_entry = {1'b0, sum_xw, sum_w, run_end, start, 5'd0, y};
-  assign t_entry = {1'b1, SumXwBits'(0), SumWBits'(0), CoordBits'(0), t_flags[CoordBits-1:0],
-                    t_row};
-
-  // Compact the writes: A, R, T in order into slots 0, 1, 2.
-  logic [1:0]             wr_count;
-  logic [3*EntryBits-1:0] wr_data;
-  assign wr_count = 2'(a_en) + 2'(r_en) + 2'(t_en);
-  assign wr_data[0 +: EntryBits] = a_en ? a_entry : r_en ? r_entry : t_entry;
-  assign wr_data[EntryBits +: EntryBits] = a_en && r_en ? r_entry : t_entry;
-  assign wr_data[2*EntryBits +: EntryBits] = t_entry;
-
   // ---------------------------------------------------------------------------
-  // FIFO and output register (m_axis): takes the head when empty or
-  // transferring.
-  logic                 out_load, pop;
-  logic                 out_valid_q, out_valid_d;
-  logic [EntryBits-1:0] out_q, out_d, fifo_head;
+  // FIFO. Entries written on one edge go to consecutive addresses; A, R and T
+  // all on one edge happen only for an early SOF whose pixel is a whole 1x1
+  // frame with a run, and then T is the constant {row 1, flags 0} (the new
+  // frame emitted its one run, dropped nothing, and A cleared the sticky
+  // flag). That T is not stored: R carries impl_t and the output produces
+  // the trailer after it. So at most two entries per edge: run_fifo's two
+  // banks. The occupancy count_q counts beats (impl_t counts one).
+  logic [EntryBits-1:0] a_entry, r_entry, t_entry, slot0, slot1;
+  logic [1:0]           wr_count;
+  logic [1:0]           n_writes;
+  logic                 three;
+  assign three = a_en & r_en & t_en;
+  // The trailers' don't-care fields repeat the run's, so that Yosys folds the
+  // bank write muxes of those bits; the output zeroes them (tlast).
+  assign r_entry = {three, 1'b0, sum_w, run_end, start, 5'd0, y};
+  assign a_entry = {2'b01, sum_w, run_end, 8'd0, a_flags, a_row};
+  assign t_entry = {2'b01, sum_w, run_end, 8'd0, t_flags, t_row};
+  assign slot0 = a_en ? a_entry : r_en ? r_entry : t_entry;
+  assign slot1 = a_en & r_en ? r_entry : t_entry;
+  assign n_writes = 2'(a_en) + 2'(r_en) + 2'(t_en);
+  assign wr_count = n_writes - 2'(three);
 
+  // Output: the read register of run_fifo is m_axis's data register; syn_q
+  // marks the synthetic trailer after an impl_t run.
+  logic                 out_valid_q, syn_q, out_load, pop, rd, syn_next;
+  logic [EntryBits-1:0] head;
+  logic [SumXwBits-1:0] head_sum_xw;
+  logic                 head_impl, head_last;
   assign out_load = ~out_valid_q | m_axis_runs_tready_i;
-  assign pop = out_load & (fifo_count != '0);
-  assign out_valid_d = out_load ? pop : out_valid_q;
-  assign out_d = out_load ? (pop ? fifo_head : '0) : out_q;
+  assign pop      = out_load & (count_q != '0);
+  assign syn_next = out_valid_q & ~syn_q & head_impl;  // the next beat is the synthetic trailer
+  assign rd       = pop & ~syn_next;
+  assign count_d  = count_q - CountBits'(pop) + CountBits'(n_writes);
 
   run_fifo #(
     .Depth(FifoDepth),
-    .Width(EntryBits)
+    .Width(EntryBits),
+    .LateWidth(SumXwBits)
   ) u_fifo (
     .clk_i,
     .rst_ni,
     .wr_count_i(wr_count),
-    .wr_data_i (wr_data),
-    .rd_i      (pop),
-    .count_o   (fifo_count),
-    .head_o    (fifo_head)
+    .wr_data_i ({slot1, slot0}),
+    .late_en_i (r_en),
+    .late_slot_i(a_en),  // R is write 1 after an A, else write 0
+    .late_data_i(sum_xw_last),
+    .rd_i      (rd),
+    .rdata_o   (head),
+    .rdata_late_o(head_sum_xw)
   );
 
-  assign fifo_count_next = fifo_count - CountBits'(pop) + CountBits'(wr_count);
-  // Largest occupancy after any edge from the SOF edge to the EOF edge.
+  // Largest occupancy after any edge from the SOF edge to the EOF edge. In an
+  // open frame high_water_q >= count_q (between taken pixels the occupancy
+  // only falls), so count_d > high_water_q iff the change of this edge,
+  // n_writes - pop in -1 .. 3, exceeds the slack high_water_q - count_q: the
+  // comparison needs only flags of the slack, computed from registers.
+  logic [CountBits-1:0] hw_slack;
+  logic                 slack_0, slack_le1, slack_le2, hw_rises;
+  assign hw_slack  = high_water_q - count_q;
+  assign slack_0   = hw_slack == '0;
+  assign slack_le1 = hw_slack[CountBits-1:1] == '0;
+  assign slack_le2 = slack_le1 || hw_slack == CountBits'(2);
+  always_comb begin
+    unique case ({n_writes, pop})
+      3'b010, 3'b101: hw_rises = slack_0;    // +1
+      3'b100, 3'b111: hw_rises = slack_le1;  // +2
+      3'b110:         hw_rises = slack_le2;  // +3
+      default:        hw_rises = 1'b0;       // -1, 0
+    endcase
+  end
   always_comb begin
     high_water_d = high_water_q;
-    if (take) begin
-      if (s_lut_sof_i || fifo_count_next > high_water_q) high_water_d = fifo_count_next;
-    end
+    if (take && (sof || hw_rises)) high_water_d = count_d;
   end
 
   always_comb begin
@@ -274,19 +334,28 @@ module run_scanner #(
       cfg_bg_q <= 8'd0;  // RunScanConfig{} (unused until an SOF latches the port)
       cfg_min_len_q <= 16'd1;
       cfg_max_runs_q <= 16'd8;
+      min_le1_q <= 1'b1;
+      min_le2_q <= 1'b1;
+      max_nz_q <= 1'b1;
+      max_le1_q <= 1'b0;
       frame_open_q <= 1'b0;
-      x_q <= '0;
-      y_q <= '0;
+      row_start_q <= 1'b1;
       prev_w_q <= '0;
-      prev_xw_q <= '0;
       in_run_q <= 1'b0;
       run_start_q <= '0;
       run_sum_w_q <= '0;
-      run_sum_xw_q <= '0;
+      xw_q <= '0;
+      xw_base_q <= '0;
+      run_len_q <= '0;
+      len_ge_q <= 1'b0;
+      len1_ge_q <= 1'b0;
       row_runs_q <= '0;
+      row_full_q <= 1'b0;
       emitted_q <= '0;
       drop_limit_q <= '0;
       drop_ovf_q <= '0;
+      limit_nz_q <= 1'b0;
+      ovf_nz_q <= 1'b0;
       high_water_q <= '0;
       stat_emitted_q <= '0;
       stat_drop_limit_q <= '0;
@@ -295,28 +364,40 @@ module run_scanner #(
       done_q <= 1'b0;
       sticky_q <= 1'b0;
       trailers_lost_q <= '0;
+      count_q <= '0;
       out_valid_q <= 1'b0;
-      out_q <= '0;
+      syn_q <= 1'b0;
     end else begin
       frame_open_q <= frame_open_d;
+      if (sof_take) begin
+        cfg_bg_q <= cfg_background_level_i;
+        cfg_min_len_q <= cfg_min_run_length_i;
+        cfg_max_runs_q <= cfg_max_runs_per_row_i;
+        min_le1_q <= min_le1;
+        min_le2_q <= min_le2;
+        max_nz_q <= max_nz;
+        max_le1_q <= max_le1;
+      end
       if (take) begin
-        if (s_lut_sof_i) begin
-          cfg_bg_q <= cfg_background_level_i;
-          cfg_min_len_q <= cfg_min_run_length_i;
-          cfg_max_runs_q <= cfg_max_runs_per_row_i;
-        end
+        row_start_q <= s_lut_eol_i;
         in_run_q <= s_lut_mask_i & ~s_lut_eol_i;
         run_start_q <= start;
         run_sum_w_q <= sum_w;
-        run_sum_xw_q <= sum_xw;
+        xw_q <= xw;
+        xw_base_q <= xw_base_d;
         prev_w_q <= w;
-        prev_xw_q <= xw;
+        // Only read while the run goes on (in_run_q), so the run_len_q + 1 /
+        // 1 choice need not look at the mask.
+        run_len_q <= in_run ? run_len_inc : RunLenBits'(1);
+        len_ge_q <= in_run ? len1_ge_q : min_le1;
+        len1_ge_q <= in_run ? len2_ge_min : min_le2;
         row_runs_q <= row_runs_d;
-        x_q <= s_lut_eol_i ? '0 : x + 11'd1;
-        y_q <= s_lut_eol_i ? y + 11'd1 : y;
+        row_full_q <= row_full_d;
         emitted_q <= emitted_d;
         drop_limit_q <= drop_limit_d;
         drop_ovf_q <= drop_ovf_d;
+        limit_nz_q <= limit_nz_d;
+        ovf_nz_q <= ovf_nz_d;
       end
       high_water_q <= high_water_d;
       if (t_req) begin
@@ -328,30 +409,45 @@ module run_scanner #(
       done_q <= t_req;
       sticky_q <= sticky_d;
       trailers_lost_q <= trailers_lost_d;
-      out_valid_q <= out_valid_d;
-      out_q <= out_d;
+      count_q <= count_d;
+      if (out_load) begin
+        out_valid_q <= pop;
+        syn_q <= pop & syn_next;
+      end
     end
   end
 
   // ---------------------------------------------------------------------------
-  // Outputs.
-  logic                 out_last;
+  // Outputs. The entry fields a trailer does not use read as 0.
+  logic                 head_ok, head_run;
+  logic [SumWBits-1:0]  head_sum_w;
+  logic [CoordBits-1:0] head_x_end, head_x_start;
+  logic [15:0]          head_row;
+  assign {head_impl, head_last, head_sum_w, head_x_end, head_x_start, head_row} = head;
+  assign head_ok  = out_valid_q & ~syn_q;  // the beat is the entry read from run_fifo
+  assign head_run = head_ok & ~head_last;
+
+  assign m_axis_runs_tvalid_o = out_valid_q;
+  assign m_axis_runs_tlast_o  = out_valid_q & (syn_q | head_last);
   logic [SumXwBits-1:0] out_sum_xw;
   logic [SumWBits-1:0]  out_sum_w;
   logic [CoordBits-1:0] out_x_end, out_x_start;
   logic [15:0]          out_row;
-  assign {out_last, out_sum_xw, out_sum_w, out_x_end, out_x_start, out_row} = out_q;
-
-  assign m_axis_runs_tvalid_o = out_valid_q;
-  assign m_axis_runs_tlast_o  = out_last;
-  assign m_axis_runs_tdata_o  = {16'(out_x_end), 32'(out_sum_xw), 32'(out_sum_w),
-                                 16'(out_x_start), out_row};
+  logic                 out_syn;
+  assign out_sum_xw  = head_sum_xw & {SumXwBits{head_run}};
+  assign out_sum_w   = head_sum_w & {SumWBits{head_run}};
+  assign out_x_end   = head_x_end & {CoordBits{head_run}};
+  assign out_x_start = head_x_start & {CoordBits{head_ok}};
+  assign out_syn     = out_valid_q & syn_q;
+  assign out_row     = (head_row & {16{head_ok}}) | 16'(out_syn);
+  assign m_axis_runs_tdata_o  = {16'(out_x_end), 32'(out_sum_xw), 32'(out_sum_w), 16'(out_x_start),
+                                 out_row};
   assign done_o                   = done_q;
   assign runs_emitted_o           = 32'(stat_emitted_q);
   assign runs_dropped_row_limit_o = 32'(stat_drop_limit_q);
   assign runs_dropped_overflow_o  = 32'(stat_drop_ovf_q);
   assign fifo_high_water_o        = 32'(stat_high_water_q);
-  assign fifo_occupancy_o         = fifo_count;
+  assign fifo_occupancy_o         = count_q;
   assign trailers_lost_o          = trailers_lost_q;
 
   // The camera pixel itself is not used: runs are of the LUT output.
@@ -359,24 +455,58 @@ module run_scanner #(
   assign unused_grey = ^s_lut_grey_i;
 
 `ifndef SYNTHESIS
+  // Position counters, for the assertion only: the RTL uses pix.x/pix.y.
+  logic [CoordBits-1:0] x_q, y_q;
+  logic [CoordBits-1:0] x_cnt, y_cnt;
+  logic [111:0]         tdata_q;
+  logic                 tlast_q, stalled_q;
+  assign x_cnt = sof ? '0 : x_q;
+  assign y_cnt = sof ? '0 : y_q;
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      x_q <= '0;
+      y_q <= '0;
+      stalled_q <= 1'b0;
+    end else begin
+      if (take) begin
+        x_q <= s_lut_eol_i ? '0 : x_cnt + CoordBits'(1);
+        y_q <= s_lut_eol_i ? y_cnt + CoordBits'(1) : y_cnt;
+      end
+      stalled_q <= m_axis_runs_tvalid_o & ~m_axis_runs_tready_i;
+      tdata_q <= m_axis_runs_tdata_o;
+      tlast_q <= m_axis_runs_tlast_o;
+    end
+  end
   always_ff @(posedge clk_i) begin
     if (rst_ni) begin
       // frame_check guarantees the pixel position; the counters must agree.
       if (take) begin
-        assert (s_lut_x_i == x && s_lut_y_i == y)
+        assert (s_lut_x_i == x_cnt && s_lut_y_i == y_cnt)
         else $error("run_scanner: pixel (%0d, %0d) but counters (%0d, %0d)",
-                    s_lut_x_i, s_lut_y_i, x, y);
+                    s_lut_x_i, s_lut_y_i, x_cnt, y_cnt);
+        assert (row_start == (x_cnt == '0))
+        else $error("run_scanner: row start flag wrong");
       end
-      // AXI4-Stream: a beat that is not taken holds.
-      if (out_valid_q && !m_axis_runs_tready_i) begin
-        assert (out_valid_d && out_d == out_q)
-        else $error("run_scanner: m_axis_runs changed while stalled");
+      // Only frame_check's early SOF carries an abort and a pixel.
+      assert (!(s_lut_abort_i && s_lut_valid_i) || sof)
+      else $error("run_scanner: abort on a pixel that is not an SOF");
+      // Three writes only with the constant trailer (see "FIFO" above).
+      if (a_en && r_en && t_en) begin
+        assert (t_row == 16'd1 && t_flags == 3'b000)
+        else $error("run_scanner: three writes with a non-constant trailer");
       end
+      assert ({1'b0, count_q} + (CountBits + 1)'(n_writes) <= (CountBits + 1)'(Depth))
+      else $error("run_scanner: FIFO overflow");
     end
   end
-`else
-  logic unused_pos;
-  assign unused_pos = ^{s_lut_x_i, s_lut_y_i};
+  always_ff @(posedge clk_i) begin
+    // AXI4-Stream: a beat that is not taken holds.
+    if (rst_ni && stalled_q) begin
+      assert (m_axis_runs_tvalid_o && m_axis_runs_tdata_o == tdata_q &&
+              m_axis_runs_tlast_o == tlast_q)
+      else $error("run_scanner: m_axis_runs changed while stalled");
+    end
+  end
 `endif
 
 endmodule

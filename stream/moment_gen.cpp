@@ -6,144 +6,147 @@ namespace ceilnav::stream {
 
 namespace {
 
-// F += bit ? p : 0 — the AND gates and the adder of one plane accumulator
-// (eq. 28). from_raw keeps the accumulator's width (wrap, as the hardware).
-template <class Acc>
-Acc and_add(const Acc& acc, bool bit, uint64_t p) {
-  return Acc::from_raw(acc.raw() + (bit ? p : uint64_t{0}));
+using namespace moment_gen_widths;
+
+constexpr uint64_t mask_of(int bits) {
+  return (uint64_t{1} << bits) - 1;
 }
 
-// h = 2 h + F: one Horner step of eq. 27; first = the MSB plane (h starts at 0).
-template <class M, class Acc>
-M horner_step(const M& h, bool first, const Acc& f) {
-  return M::from_raw((first ? uint64_t{0} : h.raw() << 1) + f.raw());
+template <size_t N>
+constexpr std::array<uint64_t, N> masks_of(const std::array<int, N>& bits) {
+  std::array<uint64_t, N> m{};
+  for (size_t i = 0; i < N; ++i) m[i] = mask_of(bits[i]);
+  return m;
 }
+
+constexpr auto kGreyRowMask = masks_of(kGreyRowBits);
+constexpr auto kMaskRowMask = masks_of(kMaskRowBits);
+constexpr auto kGreyFrameMask = masks_of(kGreyFrameBits);
+constexpr auto kMaskFrameMask = masks_of(kMaskFrameBits);
+constexpr auto kGreyMomentMask = masks_of(kGreyMomentBits);
+constexpr auto kMaskMomentMask = masks_of(kMaskMomentBits);
 
 }  // namespace
 
 void MomentGen::reset() {
-  x_q_ = {};
-  y_q_ = {};
-  p20_q_ = {};
-  p11_q_ = {};
-  p02_q_ = {};
   frame_open_q_ = false;
-  grey_acc_q_ = {};
-  mask_acc_q_ = {};
-  grey_snap_q_ = {};
-  mask_snap_q_ = {};
+  row_start_q_ = false;
+  first_row_q_ = false;
+  x_q_ = 0;
+  y_q_ = 0;
+  width_q_ = 0;
+  grey_q_ = {};
+  mask_q_ = {};
   combine_busy_q_ = false;
-  combine_step_q_ = 0;
-  horner_q_ = {};
+  combine_left_q_ = 0;
+  pending_q_ = {};
   results_q_ = {};
   done_q_ = false;
   overrun_count_q_ = 0;
 }
 
+// A1 += I, A2 += A1, A3 += A2 (each with the value after this pixel); the
+// first pixel of a row starts them from 0.
+template <bool kGrey>
+void MomentGen::add_pixel(Cascade& c, uint64_t value, bool row_start) {
+  const auto& m = kGrey ? kGreyRowMask : kMaskRowMask;
+  auto& a = c.a;
+  a[0] = ((row_start ? 0 : a[0]) + value) & m[0];
+  a[1] = ((row_start ? 0 : a[1]) + a[0]) & m[1];
+  a[2] = ((row_start ? 0 : a[2]) + a[1]) & m[2];
+}
+
+// At a row end: F00 += A1, F01 += F00, F02 += F01 (v weights down the frame),
+// F10 += A2, F11 += F10, F20 += A3; the first row starts them from 0.
+template <bool kGrey>
+void MomentGen::end_row(Cascade& c, bool first_row) {
+  const auto& m = kGrey ? kGreyFrameMask : kMaskFrameMask;
+  auto& f = c.f;
+  const auto acc = [first_row](uint64_t old, uint64_t add) { return (first_row ? 0 : old) + add; };
+  f[kM00] = acc(f[kM00], c.a[0]) & m[kM00];
+  f[kM01] = acc(f[kM01], f[kM00]) & m[kM01];
+  f[kM02] = acc(f[kM02], f[kM01]) & m[kM02];
+  f[kM10] = acc(f[kM10], c.a[1]) & m[kM10];
+  f[kM11] = acc(f[kM11], f[kM10]) & m[kM11];
+  f[kM20] = acc(f[kM20], c.a[2]) & m[kM20];
+}
+
+// With x = W - u, y = H - v, u^2 = 2 u(u+1)/2 - u:
+//   m10 = W F00 - F10                 m01 = H F00 - F01
+//   m20 = W (m10 - F10) + 2 F20 - F10 m02 = H (m01 - F01) + 2 F02 - F01
+//   m11 = W m01 - H F10 + F11
+// Intermediates may be negative; unsigned arithmetic is exact modulo 2^64
+// and every moment is below 2^51. The RTL computes the same modulo 2^pass.
+template <bool kGrey>
+std::array<uint64_t, kMomentCount> MomentGen::combine(const Cascade& c, uint64_t w, uint64_t h) {
+  const auto& f = c.f;
+  const auto& m = kGrey ? kGreyMomentMask : kMaskMomentMask;
+  std::array<uint64_t, kMomentCount> r{};
+  r[kM00] = f[kM00];
+  r[kM10] = w * f[kM00] - f[kM10];
+  r[kM01] = h * f[kM00] - f[kM01];
+  r[kM20] = w * (r[kM10] - f[kM10]) + 2 * f[kM20] - f[kM10];
+  r[kM11] = w * r[kM01] - h * f[kM10] + f[kM11];
+  r[kM02] = h * (r[kM01] - f[kM01]) + 2 * f[kM02] - f[kM01];
+  for (size_t k = 0; k < kMomentCount; ++k) r[k] &= m[k];
+  return r;
+}
+
 void MomentGen::clock(const LutBeat& in) {
-  // ---- Horner combine of the snapshot (reads only pre-edge registers).
-  bool done_d = false;
-  bool combine_busy_d = combine_busy_q_;
-  uint8_t combine_step_d = combine_step_q_;
-  MomentSet horner_d = horner_q_;
-  MomentResults results_d = results_q_;
-  if (combine_busy_q_) {
-    const bool first = combine_step_q_ == 0;
-    const PlaneSet& f = grey_snap_q_[static_cast<size_t>(kPlanes - 1 - combine_step_q_)];
-    horner_d.m00 = horner_step(horner_q_.m00, first, f.m00);
-    horner_d.m10 = horner_step(horner_q_.m10, first, f.m10);
-    horner_d.m01 = horner_step(horner_q_.m01, first, f.m01);
-    horner_d.m20 = horner_step(horner_q_.m20, first, f.m20);
-    horner_d.m11 = horner_step(horner_q_.m11, first, f.m11);
-    horner_d.m02 = horner_step(horner_q_.m02, first, f.m02);
-    if (combine_step_q_ == kPlanes - 1) {
-      results_d.grey = {horner_d.m00.raw(), horner_d.m10.raw(), horner_d.m01.raw(),
-                        horner_d.m20.raw(), horner_d.m11.raw(), horner_d.m02.raw()};
-      results_d.mask = {mask_snap_q_.m00.raw(), mask_snap_q_.m10.raw(), mask_snap_q_.m01.raw(),
-                        mask_snap_q_.m20.raw(), mask_snap_q_.m11.raw(), mask_snap_q_.m02.raw()};
-      done_d = true;
-      combine_busy_d = false;
-      combine_step_d = 0;
-    } else {
-      combine_step_d = static_cast<uint8_t>(combine_step_q_ + 1);
-    }
+  // ---- Combine: only its timing is modelled (the values were formed at EOF).
+  const bool last_step = combine_busy_q_ && combine_left_q_ == 1;
+  const bool combine_free = !combine_busy_q_ || last_step;
+  done_q_ = last_step;
+  if (last_step) {
+    results_q_ = pending_q_;
+    combine_busy_q_ = false;
+  } else if (combine_busy_q_) {
+    --combine_left_q_;
   }
 
-  // ---- Pixel path: factor generator, AND gates, plane accumulators.
+  // ---- Pixel path.
   const PixelBeat& pix = in.pix;
   const bool take = pix.valid && (pix.sof || frame_open_q_);
   if (take) {
-    // Top of screen / left margin: every factor of the SOF pixel is 0.
-    const uint64_t x = pix.sof ? 0 : x_q_.raw();
-    const uint64_t y = pix.sof ? 0 : y_q_.raw();
-    const uint64_t p20 = pix.sof ? 0 : p20_q_.raw();
-    const uint64_t p11 = pix.sof ? 0 : p11_q_.raw();
-    const uint64_t p02 = pix.sof ? 0 : p02_q_.raw();
+    const uint32_t x = pix.sof ? 0 : x_q_;
+    const uint32_t y = pix.sof ? 0 : y_q_;
+    const bool row_start = pix.sof || row_start_q_;
+    const bool first_row = pix.sof || first_row_q_;
     if (x != pix.x || y != pix.y) {
       throw std::logic_error("MomentGen: pixel position differs from the counters");
     }
-
-    Planes grey_acc_d;
-    for (int k = 0; k < kPlanes; ++k) {
-      const auto ku = static_cast<size_t>(k);
-      const PlaneSet& a = pix.sof ? PlaneSet{} : grey_acc_q_[ku];
-      const bool bit = ((in.remap >> k) & 1u) != 0;
-      PlaneSet& d = grey_acc_d[ku];
-      d.m00 = and_add(a.m00, bit, 1);
-      d.m10 = and_add(a.m10, bit, x);
-      d.m01 = and_add(a.m01, bit, y);
-      d.m20 = and_add(a.m20, bit, p20);
-      d.m11 = and_add(a.m11, bit, p11);
-      d.m02 = and_add(a.m02, bit, p02);
+    if ((pix.eol && !first_row && x + 1 != width_q_) || (pix.eof && !pix.eol)) {
+      throw std::logic_error("MomentGen: the frame is not rectangular");
     }
-    const PlaneSet& am = pix.sof ? PlaneSet{} : mask_acc_q_;
-    PlaneSet mask_acc_d;
-    mask_acc_d.m00 = and_add(am.m00, in.mask, 1);
-    mask_acc_d.m10 = and_add(am.m10, in.mask, x);
-    mask_acc_d.m01 = and_add(am.m01, in.mask, y);
-    mask_acc_d.m20 = and_add(am.m20, in.mask, p20);
-    mask_acc_d.m11 = and_add(am.m11, in.mask, p11);
-    mask_acc_d.m02 = and_add(am.m02, in.mask, p02);
-
-    // Factors of the next pixel: eq. 23-24 along the row, eq. 25 per row.
+    add_pixel<true>(grey_q_, in.remap, row_start);
+    add_pixel<false>(mask_q_, in.mask ? uint64_t{1} : uint64_t{0}, row_start);
     if (pix.eol) {
-      x_q_ = {};
-      p20_q_ = {};
-      p11_q_ = {};
-      y_q_ = decltype(y_q_)::from_raw(y + 1);
-      p02_q_ = decltype(p02_q_)::from_raw(p02 + (y << 1) + 1);
+      end_row<true>(grey_q_, first_row);
+      end_row<false>(mask_q_, first_row);
+      if (first_row) width_q_ = x + 1;
+      x_q_ = 0;
+      y_q_ = y + 1;
     } else {
-      x_q_ = decltype(x_q_)::from_raw(x + 1);
-      p20_q_ = decltype(p20_q_)::from_raw(p20 + (x << 1) + 1);
-      p11_q_ = decltype(p11_q_)::from_raw(p11 + y);
-      y_q_ = decltype(y_q_)::from_raw(y);
-      p02_q_ = decltype(p02_q_)::from_raw(p02);
+      x_q_ = x + 1;
+      y_q_ = y;
     }
-    grey_acc_q_ = grey_acc_d;
-    mask_acc_q_ = mask_acc_d;
+    row_start_q_ = pix.eol;
+    first_row_q_ = first_row && !pix.eol;
     frame_open_q_ = !pix.eof;
 
     if (pix.eof) {
-      // The snapshot may be reloaded on the edge where the combine reads its
-      // last plane (F_0), not earlier.
-      if (combine_busy_q_ && combine_step_q_ != kPlanes - 1) {
-        if (overrun_count_q_ != UINT32_MAX) ++overrun_count_q_;
-      } else {
-        grey_snap_q_ = grey_acc_d;
-        mask_snap_q_ = mask_acc_d;
-        combine_busy_d = true;
-        combine_step_d = 0;
+      if (combine_free) {
+        pending_q_.grey = combine<true>(grey_q_, x + 1, y + 1);
+        pending_q_.mask = combine<false>(mask_q_, x + 1, y + 1);
+        combine_busy_q_ = true;
+        combine_left_q_ = kCombineCycles;
+      } else if (overrun_count_q_ != UINT32_MAX) {
+        ++overrun_count_q_;
       }
     }
   } else if (pix.abort) {
-    frame_open_q_ = false;  // the partial sums are never snapshot
+    frame_open_q_ = false;  // the partial sums are never combined
   }
-
-  combine_busy_q_ = combine_busy_d;
-  combine_step_q_ = combine_step_d;
-  horner_q_ = horner_d;
-  results_q_ = results_d;
-  done_q_ = done_d;
 }
 
 void MomentGen::accumulate_row(FrameSums& sums, uint32_t y, const uint8_t* remap,

@@ -1,14 +1,15 @@
 // moment_gen: m00 m10 m01 m20 m11 m02 of the grey image (LUT remap) and of the
-// mask, built as in seed 003 eq. 20-28: the factors p_ab(x, y) = x^a y^b come
-// from counters and adders, each bit plane of the pixel is ANDed with them
-// into a per-plane accumulator F_k, and m_ab = sum_k 2^k F_k is formed once per
-// frame by a sequential Horner unit. See docs/blocks/moment_gen.md.
+// mask. Counters and adders, no multiplier on the pixel path (seed 003's
+// spirit, not its bit planes): cascaded accumulators along each row and down
+// the frame give sums of I weighted by u = W - x and v = H - y and by
+// u(u+1)/2, v(v+1)/2, u v; a bit-serial combine after EOF turns them into the
+// moments with W and H. See docs/blocks/moment_gen.md.
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
-#include "fixedpoint/fixed.hpp"
 #include "stream/beat.hpp"
 #include "stream/limits.hpp"
 #include "stream/results.hpp"
@@ -19,46 +20,100 @@ namespace moment_gen_widths {
 
 inline constexpr uint64_t kW = kMaxWidth;
 inline constexpr uint64_t kH = kMaxHeight;
+inline constexpr uint64_t kGreyMax = (1u << kPixelBits) - 1;
 
-// Largest factor p_ab = x^a y^b, x <= W-1, y <= H-1 (order kM00..kM02).
-inline constexpr std::array<uint64_t, kMomentCount> kFactorMax = {
-    1, kW - 1, kH - 1, (kW - 1) * (kW - 1), (kW - 1) * (kH - 1), (kH - 1) * (kH - 1)};
+// Cascade weights: a pixel at u = W - x (1..W) adds 1, u, u(u+1)/2 to the
+// three row accumulators; their sums over a row of n pixels are at most:
+constexpr uint64_t sum1(uint64_t n) {
+  return n;
+}
+constexpr uint64_t sum2(uint64_t n) {
+  return n * (n + 1) / 2;
+}
+constexpr uint64_t sum3(uint64_t n) {
+  return n * (n + 1) * (n + 2) / 6;
+}
 
-// Largest plane sum F_k = sum over the frame of p_ab (every bit of the plane set).
-inline constexpr std::array<uint64_t, kMomentCount> kPlaneSumMax = {
-    kW * kH,                                  // sum 1
-    kH*(kW*(kW - 1) / 2),                     // sum x
-    kW*(kH*(kH - 1) / 2),                     // sum y
-    kH*((kW - 1) * kW * (2 * kW - 1) / 6),    // sum x^2
-    (kW*(kW - 1) / 2) * (kH * (kH - 1) / 2),  // sum x y
-    kW*((kH - 1) * kH * (2 * kH - 1) / 6)};   // sum y^2
+// Index order of the frame accumulators (F_ab: weight u^(a) v^(b) with
+// u^(1) = u, u^(2) = u(u+1)/2), the same order as kM00..kM02.
+inline constexpr int kRowCount = 3;  // A1 = sum I, A2 = sum I u, A3 = sum I u(u+1)/2
 
-inline constexpr int kFactorBits[kMomentCount] = {bits_for(kFactorMax[0]), bits_for(kFactorMax[1]),
-                                                  bits_for(kFactorMax[2]), bits_for(kFactorMax[3]),
-                                                  bits_for(kFactorMax[4]), bits_for(kFactorMax[5])};
-inline constexpr int kPlaneBits[kMomentCount] = {
-    bits_for(kPlaneSumMax[0]), bits_for(kPlaneSumMax[1]), bits_for(kPlaneSumMax[2]),
-    bits_for(kPlaneSumMax[3]), bits_for(kPlaneSumMax[4]), bits_for(kPlaneSumMax[5])};
-// m_ab <= 255 * F_max (every pixel 255).
-inline constexpr int kMomentBits[kMomentCount] = {
-    bits_for(255 * kPlaneSumMax[0]), bits_for(255 * kPlaneSumMax[1]),
-    bits_for(255 * kPlaneSumMax[2]), bits_for(255 * kPlaneSumMax[3]),
-    bits_for(255 * kPlaneSumMax[4]), bits_for(255 * kPlaneSumMax[5])};
+// Largest row / frame accumulator per unit pixel value (all pixels 1).
+inline constexpr std::array<uint64_t, kRowCount> kRowWeightMax = {sum1(kW), sum2(kW), sum3(kW)};
+inline constexpr std::array<uint64_t, kMomentCount> kFrameWeightMax = {
+    sum1(kW) * sum1(kH), sum2(kW) * sum1(kH), sum1(kW) * sum2(kH),
+    sum3(kW) * sum1(kH), sum2(kW) * sum2(kH), sum1(kW) * sum3(kH)};
+// Largest moment per unit pixel value: sum over the frame of x^a y^b.
+inline constexpr std::array<uint64_t, kMomentCount> kMomentWeightMax = {
+    kW * kH,
+    kH*(kW*(kW - 1) / 2),
+    kW*(kH*(kH - 1) / 2),
+    kH*((kW - 1) * kW * (2 * kW - 1) / 6),
+    (kW * (kW - 1) / 2) * (kH * (kH - 1) / 2),
+    kW*((kH - 1) * kH * (2 * kH - 1) / 6)};
 
-static_assert(kFactorBits[kM10] == kCoordBits && kFactorBits[kM20] == 2 * kCoordBits);
-static_assert(kPlaneBits[kM00] == 23 && kPlaneBits[kM10] == 32 && kPlaneBits[kM01] == 32);
-static_assert(kPlaneBits[kM20] == 43 && kPlaneBits[kM11] == 42 && kPlaneBits[kM02] == 43);
-static_assert(kMomentBits[kM00] == 30 && kMomentBits[kM10] == 40 && kMomentBits[kM20] == 51);
-static_assert(kMomentBits[kM11] == 50 && kMomentBits[kM02] == 51);
+template <std::size_t N>
+constexpr std::array<int, N> widths(const std::array<uint64_t, N>& max, uint64_t scale) {
+  std::array<int, N> w{};
+  for (std::size_t i = 0; i < N; ++i) w[i] = bits_for(max[i] * scale);
+  return w;
+}
+template <std::size_t N>
+constexpr std::array<int, N> wider(const std::array<int, N>& a, const std::array<int, N>& b) {
+  std::array<int, N> w{};
+  for (std::size_t i = 0; i < N; ++i) w[i] = a[i] > b[i] ? a[i] : b[i];
+  return w;
+}
+template <std::size_t N>
+constexpr int largest(const std::array<int, N>& a) {
+  int m = 0;
+  for (int v : a) m = v > m ? v : m;
+  return m;
+}
+
+inline constexpr std::array<int, kRowCount> kGreyRowBits = widths(kRowWeightMax, kGreyMax);
+inline constexpr std::array<int, kRowCount> kMaskRowBits = widths(kRowWeightMax, 1);
+inline constexpr std::array<int, kMomentCount> kGreyFrameBits = widths(kFrameWeightMax, kGreyMax);
+inline constexpr std::array<int, kMomentCount> kMaskFrameBits = widths(kFrameWeightMax, 1);
+// Output port widths (unchanged from the bit-plane design).
+inline constexpr std::array<int, kMomentCount> kGreyMomentBits = widths(kMomentWeightMax, kGreyMax);
+inline constexpr std::array<int, kMomentCount> kMaskMomentBits = widths(kMomentWeightMax, 1);
+// Combine shift registers: hold F_ab on entry and m_ab on exit.
+inline constexpr std::array<int, kMomentCount> kGreyWorkBits =
+    wider(kGreyFrameBits, kGreyMomentBits);
+inline constexpr std::array<int, kMomentCount> kMaskWorkBits =
+    wider(kMaskFrameBits, kMaskMomentBits);
+// Bit-serial passes run over every bit of the widest work register.
+inline constexpr int kGreyPassBits = largest(kGreyWorkBits);
+inline constexpr int kMaskPassBits = largest(kMaskWorkBits);
+inline constexpr int kDimBits = bits_for(kW);  // W, H in 1 .. 2048
+
+static_assert(kW == kH, "the RTL sizes W and H alike");
+static_assert(kGreyRowBits == std::array<int, 3>{19, 29, 39});
+static_assert(kMaskRowBits == std::array<int, 3>{12, 22, 31});
+static_assert(kGreyFrameBits == std::array<int, 6>{30, 40, 40, 50, 50, 50});
+static_assert(kMaskFrameBits == std::array<int, 6>{23, 33, 33, 42, 43, 42});
+static_assert(kGreyMomentBits == std::array<int, 6>{30, 40, 40, 51, 50, 51});
+static_assert(kMaskMomentBits == std::array<int, 6>{23, 32, 32, 43, 42, 43});
+static_assert(kGreyWorkBits == std::array<int, 6>{30, 40, 40, 51, 50, 51});
+static_assert(kMaskWorkBits == std::array<int, 6>{23, 33, 33, 43, 43, 43});
+static_assert(kGreyPassBits == 51 && kMaskPassBits == 43 && kDimBits == 12);
+// Every accumulator and intermediate fits a uint64_t with room to spare.
+static_assert(kGreyPassBits < 64);
 
 }  // namespace moment_gen_widths
 
 class MomentGen {
  public:
-  static constexpr int kPlanes = kPixelBits;
-  // Horner unit: one plane per cycle (MSB first), all 12 moments in parallel.
-  // done() is high in the kCombineCycles-th cycle after the EOF pixel's cycle.
-  static constexpr int kCombineCycles = kPlanes;
+  // Edges from the EOF pixel's edge e to the edge that raises done():
+  // the last frame accumulator settles at e+3 (the cascade is skewed one edge
+  // per stage), the snapshots load at e+2..e+4, the grey pass shifts at
+  // e+5 .. e+5+kGreyPassBits, the mask pass (its first edge shared with the
+  // grey pass's last) for kMaskPassBits+1 edges, then the results load.
+  static constexpr int kSkewCycles = 4;
+  static constexpr int kCombineCycles =
+      kSkewCycles + 1 + moment_gen_widths::kGreyPassBits + moment_gen_widths::kMaskPassBits + 1;
+  static_assert(kCombineCycles == 100);
 
   // Fast path state: plain per-frame sums (software only, no hardware meaning).
   struct FrameSums {
@@ -72,15 +127,19 @@ class MomentGen {
   void reset();
 
   // One rising clock edge; samples the LutBeat port (remap, mask, pix.*).
+  // Throws std::logic_error if pix.x / pix.y differ from the block's counters
+  // or the frame is not rectangular (frame_check rules both out).
   void clock(const LutBeat& in);
 
   // Registered outputs.
   bool done() const { return done_q_; }  // one-cycle pulse: results() just updated
   const MomentResults& results() const { return results_q_; }  // last completed frame
   bool combine_busy() const { return combine_busy_q_; }
-  // Frames whose results were discarded because they ended while the combine
-  // of the previous frame was still running (only frames of fewer than
-  // kCombineCycles pixels with less blanking can do that). Saturating.
+  // done() rises on the next edge (a function of registers only).
+  bool done_next() const { return combine_busy_q_ && combine_left_q_ == 1; }
+  // Frames whose results were discarded because their EOF came fewer than
+  // kCombineCycles edges after the previous accepted EOF (only frames of
+  // fewer than kCombineCycles pixels plus blanking can do that). Saturating.
   uint32_t overrun_count() const { return overrun_count_q_; }
 
   // Fast frame-at-a-time path, equal to clock()-ing the frame. Rows may come in
@@ -90,46 +149,34 @@ class MomentGen {
   static MomentResults finish(const FrameSums& sums) { return {sums.grey, sums.mask}; }
 
  private:
-  template <int K>
-  using Plane = fp::UInt<moment_gen_widths::kPlaneBits[K]>;
-  // One set of six plane accumulators F (p00, p10, p01, p20, p11, p02).
-  struct PlaneSet {
-    Plane<kM00> m00;
-    Plane<kM10> m10;
-    Plane<kM01> m01;
-    Plane<kM20> m20;
-    Plane<kM11> m11;
-    Plane<kM02> m02;
+  // Row accumulators A1..A3 and frame accumulators F00 F10 F01 F20 F11 F02
+  // of one image (grey or mask), each kept to its RTL width.
+  struct Cascade {
+    std::array<uint64_t, moment_gen_widths::kRowCount> a{};
+    std::array<uint64_t, kMomentCount> f{};
   };
-  using Planes = std::array<PlaneSet, kPlanes>;
+  template <bool kGrey>
+  static void add_pixel(Cascade& c, uint64_t value, bool row_start);
+  template <bool kGrey>
+  static void end_row(Cascade& c, bool first_row);
+  template <bool kGrey>
+  static std::array<uint64_t, kMomentCount> combine(const Cascade& c, uint64_t w, uint64_t h);
 
-  template <int K>
-  using Moment = fp::UInt<moment_gen_widths::kMomentBits[K]>;
-  struct MomentSet {
-    Moment<kM00> m00;
-    Moment<kM10> m10;
-    Moment<kM01> m01;
-    Moment<kM20> m20;
-    Moment<kM11> m11;
-    Moment<kM02> m02;
-  };
-
-  // Factor generator (eq. 23-25): values for the NEXT pixel of the frame.
-  fp::UInt<kCoordBits> x_q_;                              // p10
-  fp::UInt<kCoordBits> y_q_;                              // p01
-  fp::UInt<moment_gen_widths::kFactorBits[kM20]> p20_q_;  // x^2
-  fp::UInt<moment_gen_widths::kFactorBits[kM11]> p11_q_;  // x y
-  fp::UInt<moment_gen_widths::kFactorBits[kM02]> p02_q_;  // y^2
+  // Pixel path.
   bool frame_open_q_ = false;
+  bool row_start_q_ = false;  // the next pixel starts a row
+  bool first_row_q_ = false;  // the next pixel is in the frame's first row
+  uint32_t x_q_ = 0;          // position check only (the RTL checks by assertion)
+  uint32_t y_q_ = 0;
+  uint32_t width_q_ = 0;  // row length of the open frame, 0 until its first EOL
+  Cascade grey_q_{};
+  Cascade mask_q_{};
 
-  Planes grey_acc_q_{};  // F_k of the frame being received
-  PlaneSet mask_acc_q_{};
-  Planes grey_snap_q_{};  // F_k of the frame being combined (loaded at EOF)
-  PlaneSet mask_snap_q_{};
-
+  // Combine. The model forms the moments at the EOF edge (exact in 64-bit
+  // integers) and shows them at the done edge, as the RTL's serial unit does.
   bool combine_busy_q_ = false;
-  uint8_t combine_step_q_ = 0;  // plane kPlanes-1-step is added at the next edge
-  MomentSet horner_q_{};
+  int combine_left_q_ = 0;  // edges until done, while busy
+  MomentResults pending_q_{};
 
   MomentResults results_q_{};
   bool done_q_ = false;

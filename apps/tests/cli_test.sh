@@ -32,7 +32,7 @@ expect_error() {
   ok "$name"
 }
 
-for cmd in "" demo run render accuracy; do
+for cmd in "" demo run render accuracy profile; do
   if $CEILNAV $cmd --help >"$work/help.txt" 2>&1 && grep -q -- "--" "$work/help.txt"; then
     ok "help ${cmd:-top}"
   else
@@ -139,6 +139,77 @@ expect_error "output under a file" "cannot write" "" -- run --frames "$frames" -
 expect_error "unknown command" "" "" -- fly
 expect_error "missing --scene" "scene" "" -- run --frames "$frames" --out "$o"
 expect_error "bad --frames number" "frames" "" -- demo --frames 1 --out "$work/d"
+
+# ---- profile: II = 1, no bubbles, CSV and plots; the same cycle figures on every backend.
+# Columns of profile.csv that are cycle figures (host wall times excluded).
+cycle_cols='frame,cycles,tvalid_cycles,accepted,pixels_per_valid_cycle,bubbles,pixels_counted,device_cycles,eof_to_irq_cycles,eof_to_irq_register,fifo_high_water,runs_dropped_overflow,runs_dropped_row_limit,runs_emitted,runs,run_beats,run_stall_cycles,words_read,words_written,configure_cycles,readout_cycles,host_cycles,frame_ok'
+# cycle_figures CSV: those columns, by name.
+cycle_figures() {
+  awk -F, -v want="$cycle_cols" 'NR == 1 { n = split(want, w, ","); for (i = 1; i <= NF; i++) col[$i] = i;
+    for (j = 1; j <= n; j++) if (!(w[j] in col)) { print "missing " w[j]; exit 1 } }
+    { line = ""; for (j = 1; j <= n; j++) line = line (j > 1 ? "," : "") $(col[w[j]]); print line }' "$1"
+}
+for backend in $CLI_BACKENDS; do
+  pdir=$work/profile_$backend
+  if $CEILNAV profile --backend $backend --width 160 --height 120 --count 3 --blanking random \
+    --backpressure 0.5 --tapes 2 --seed 4 --sweep 0,0.5 --sweep-frames 1 --out "$pdir" \
+    >"$work/profile_$backend.out" 2>&1; then
+    ok "profile $backend exit 0"
+  else
+    bad "profile $backend exit 0" "$(tail -5 "$work/profile_$backend.out")"
+  fi
+  for f in profile.csv profile_summary.csv latency.png fifo.png throughput.png; do
+    [ -s "$pdir/$f" ] && ok "profile $backend wrote $f" || bad "profile $backend wrote $f"
+  done
+  rows=$(($(wc -l <"$pdir/profile.csv" 2>/dev/null || echo 1) - 1))
+  [ "$rows" -eq 3 ] && ok "profile $backend: one row per frame" || bad "profile $backend: one row per frame" "rows=$rows"
+  if cycle_figures "$pdir/profile.csv" >"$work/profile_$backend.cycles" &&
+    awk -F, 'NR > 1 { if ($5 != "1.000000" || $6 != 0 || $3 != $4 || $2 != $8) exit 1; n++ } END { exit n == 3 ? 0 : 1 }' \
+      "$work/profile_$backend.cycles"; then
+    ok "profile $backend: II = 1, 0 bubbles, CYCLES_PER_FRAME = cycles"
+  else
+    bad "profile $backend: II = 1, 0 bubbles, CYCLES_PER_FRAME = cycles"
+  fi
+  grep -q "II = 1 and 0 bubbles on every frame: MET" "$work/profile_$backend.out" &&
+    ok "profile $backend summary MET" || bad "profile $backend summary MET"
+  srows=$(($(wc -l <"$pdir/profile_summary.csv" 2>/dev/null || echo 1) - 1))
+  [ "$srows" -eq 3 ] && ok "profile $backend: summary + 2 sweep rows" || bad "profile $backend: summary rows" "rows=$srows"
+done
+if [ "$CLI_BACKENDS" != "${CLI_BACKENDS/rtl/}" ]; then
+  if cmp -s "$work/profile_model.cycles" "$work/profile_rtl.cycles"; then
+    ok "profile: model and rtl cycle figures identical"
+  else
+    bad "profile: model and rtl cycle figures identical" "$(diff "$work/profile_model.cycles" "$work/profile_rtl.cycles" | head -5)"
+  fi
+fi
+# Recorded frames (the rendered folder above, with its scene.yaml), VGA timing.
+if $CEILNAV profile --frames "$frames" --count 2 --blanking vga --sweep-frames 0 >"$work/pf.out" 2>&1 &&
+  grep -q "640x480, blanking vga" "$work/pf.out" && grep -q "MET" "$work/pf.out"; then
+  ok "profile --frames"
+else
+  bad "profile --frames" "$(tail -5 "$work/pf.out")"
+fi
+pbad=$work/pbad
+expect_error "profile width 0" "width" "$pbad" -- profile --width 0 --out "$pbad"
+expect_error "profile width > 1920" "width" "$pbad" -- profile --width 1921 --out "$pbad"
+expect_error "profile height > 1080" "height" "$pbad" -- profile --height 1081 --out "$pbad"
+expect_error "profile unknown blanking" "blanking" "$pbad" -- profile --blanking ntsc --out "$pbad"
+expect_error "profile duty 1" "backpressure" "$pbad" -- profile --backpressure 1 --out "$pbad"
+expect_error "profile duty < 0" "backpressure" "$pbad" -- profile --backpressure -0.1 --out "$pbad"
+expect_error "profile sweep duty 1" "sweep" "$pbad" -- profile --sweep 0,1 --out "$pbad"
+expect_error "profile tapes 0" "tapes" "$pbad" -- profile --tapes 0 --out "$pbad"
+expect_error "profile fast backend" "backend" "$pbad" -- profile --backend fast --out "$pbad"
+expect_error "profile empty frames folder" "no PNG" "$pbad" -- profile --frames "$work/empty" --out "$pbad"
+mkdir -p "$work/noscene"; cp "$frames/frame_0000.png" "$work/noscene/"
+expect_error "profile frames without scene" "scene" "$pbad" -- profile --frames "$work/noscene" --out "$pbad"
+expect_error "profile out under a file" "not a writable folder|not a folder" "" -- profile --count 1 --out "$frames/scene.yaml/p"
+chmod a-w "$work/empty"
+if [ -w "$work/empty" ]; then
+  echo "SKIP profile unwritable out (root can write anywhere)"
+else
+  expect_error "profile unwritable out" "writable" "$work/empty/p" -- profile --count 1 --out "$work/empty/p"
+fi
+chmod u+w "$work/empty"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

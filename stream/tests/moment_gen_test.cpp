@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
@@ -63,24 +65,58 @@ std::vector<size_t> eof_cycles(const std::vector<LutBeat>& beats) {
 
 TEST(MomentGen, WidthsCoverTheLargestFrame) {
   using namespace moment_gen_widths;
-  // Brute force on the factor sums over a 2048 x 2048 frame.
-  u128 s[kMomentCount] = {};
+  // Brute force over a 2048 x 2048 frame with every pixel 1: the row and frame
+  // cascade weights (u = W - x, v = H - y) and the moment weights x^a y^b.
+  const auto tri = [](u128 n) { return n * (n + 1) / 2; };
+  u128 row[kRowCount] = {};
+  for (uint64_t x = 0; x < kW; ++x) {
+    const u128 u = kW - x;
+    row[0] += 1;
+    row[1] += u;
+    row[2] += tri(u);
+  }
+  u128 frame[kMomentCount] = {};
+  u128 mom[kMomentCount] = {};
   for (uint64_t y = 0; y < kH; ++y) {
+    const u128 v = kH - y;
     for (uint64_t x = 0; x < kW; ++x) {
-      s[kM00] += 1;
-      s[kM10] += x;
-      s[kM01] += y;
-      s[kM20] += x * x;
-      s[kM11] += x * y;
-      s[kM02] += y * y;
+      const u128 u = kW - x;
+      frame[kM00] += 1;
+      frame[kM10] += u;
+      frame[kM01] += v;
+      frame[kM20] += tri(u);
+      frame[kM11] += u * v;
+      frame[kM02] += tri(v);
+      mom[kM00] += 1;
+      mom[kM10] += x;
+      mom[kM01] += y;
+      mom[kM20] += u128{x} * x;
+      mom[kM11] += u128{x} * y;
+      mom[kM02] += u128{y} * y;
     }
   }
-  for (int k = 0; k < kMomentCount; ++k) {
-    EXPECT_EQ(static_cast<uint64_t>(s[k]), kPlaneSumMax[static_cast<size_t>(k)]) << k;
-    EXPECT_LT(s[k], u128{1} << kPlaneBits[k]) << k;
-    EXPECT_GE(s[k], u128{1} << (kPlaneBits[k] - 1)) << k;
-    EXPECT_LT(255 * s[k], u128{1} << kMomentBits[k]) << k;
+  // Width n is tight for s: s < 2^n and s >= 2^(n-1).
+  const auto tight = [](u128 s, int n) { return s < (u128{1} << n) && s >= (u128{1} << (n - 1)); };
+  for (size_t k = 0; k < kRowCount; ++k) {
+    EXPECT_EQ(row[k], kRowWeightMax[k]) << k;
+    EXPECT_TRUE(tight(kGreyMax * row[k], kGreyRowBits[k])) << k;
+    EXPECT_TRUE(tight(row[k], kMaskRowBits[k])) << k;
   }
+  for (size_t k = 0; k < kMomentCount; ++k) {
+    EXPECT_EQ(frame[k], kFrameWeightMax[k]) << k;
+    EXPECT_EQ(mom[k], kMomentWeightMax[k]) << k;
+    EXPECT_TRUE(tight(kGreyMax * frame[k], kGreyFrameBits[k])) << k;
+    EXPECT_TRUE(tight(frame[k], kMaskFrameBits[k])) << k;
+    EXPECT_TRUE(tight(kGreyMax * mom[k], kGreyMomentBits[k])) << k;
+    EXPECT_TRUE(tight(mom[k], kMaskMomentBits[k])) << k;
+    EXPECT_LE(kGreyWorkBits[k], kGreyPassBits);
+    EXPECT_LE(kMaskWorkBits[k], kMaskPassBits);
+  }
+  // The accumulators grow with every pixel value, so all-255 is the worst
+  // case; the widest row and frame sums stay below 2^64.
+  EXPECT_LT(kGreyMax * frame[kM11], u128{1} << 63);
+  // W, H are 1 .. 2048: 12 bits.
+  EXPECT_EQ(uint64_t{1} << (kDimBits - 1), kW);
 }
 
 TEST(MomentGen, RandomSizesWithGapsClockedFastGolden) {
@@ -117,18 +153,31 @@ TEST(MomentGen, RandomSizesWithGapsClockedFastGolden) {
 
 TEST(MomentGen, DoneIsOneCyclePulseCombineCyclesAfterEof) {
   std::mt19937 rng(7);
+  std::uniform_int_distribution<int> dim(1, 12);
+  std::uniform_int_distribution<size_t> extra(0, 20);
   MomentGen gen;
   std::vector<LutBeat> beats;
-  for (int i = 0; i < 5; ++i) {
-    test::append_frame(beats, test::random_frame(rng, 9, 4), rng, 0.3);
-    test::append_idle(beats, 11);
+  for (int i = 0; i < 8; ++i) {
+    test::append_frame(
+        beats,
+        test::random_frame(rng, static_cast<uint16_t>(dim(rng)), static_cast<uint16_t>(dim(rng))),
+        rng, 0.3);
+    test::append_idle(beats, MomentGen::kCombineCycles + extra(rng));
   }
   const auto eofs = eof_cycles(beats);
-  const auto pulses = run_clocked(gen, beats);
+  size_t busy_cycles = 0;
+  std::vector<DonePulse> pulses;
+  for (size_t i = 0; i < beats.size(); ++i) {
+    gen.clock(beats[i]);
+    if (gen.done()) pulses.push_back({i, gen.results()});
+    if (gen.combine_busy()) ++busy_cycles;
+  }
   ASSERT_EQ(pulses.size(), eofs.size());
   for (size_t i = 0; i < eofs.size(); ++i) {
     EXPECT_EQ(pulses[i].cycle, eofs[i] + MomentGen::kCombineCycles);
   }
+  // busy from the EOF edge up to the done edge: kCombineCycles cycles a frame.
+  EXPECT_EQ(busy_cycles, eofs.size() * MomentGen::kCombineCycles);
   // The pulse lasts one cycle: consecutive pulses are at least a frame apart.
   for (size_t i = 1; i < pulses.size(); ++i) EXPECT_GT(pulses[i].cycle, pulses[i - 1].cycle + 1);
 }
@@ -279,6 +328,105 @@ TEST(MomentGen, ResetMidFrameThenExactFrame) {
   const auto pulses = run_clocked(gen, rest);
   ASSERT_EQ(pulses.size(), 1u);
   EXPECT_EQ(pulses[0].results, golden(b));
+}
+
+// The overrun rule at its boundary: an EOF kCombineCycles - 1 edges after
+// the last accepted EOF is dropped, one kCombineCycles edges after is taken;
+// frames of exactly kCombineCycles pixels back to back never overrun.
+TEST(MomentGen, OverrunBoundaryIsCombineCycles) {
+  std::mt19937 rng(77);
+  const size_t l = MomentGen::kCombineCycles;
+  // 1x1 frames: EOF at cycle 0; then at l - 1 (dropped); then at l (taken,
+  // measured from 0, the last accepted); then at 2l - 1 (dropped: l - 1 after).
+  std::vector<LutFrame> frames;
+  for (int i = 0; i < 4; ++i) frames.push_back(test::random_frame(rng, 1, 1));
+  std::vector<LutBeat> beats;
+  test::append_frame(beats, frames[0], rng, 0.0);
+  test::append_idle(beats, l - 2);
+  test::append_frame(beats, frames[1], rng, 0.0);  // cycle l - 1
+  test::append_frame(beats, frames[2], rng, 0.0);  // cycle l
+  test::append_idle(beats, l - 2);
+  test::append_frame(beats, frames[3], rng, 0.0);  // cycle 2l - 1
+  const auto eofs = eof_cycles(beats);
+  ASSERT_EQ(eofs, (std::vector<size_t>{0, l - 1, l, 2 * l - 1}));
+  MomentGen gen;
+  const auto pulses = run_clocked(gen, beats);
+  ASSERT_EQ(pulses.size(), 2u);
+  EXPECT_EQ(pulses[0].cycle, l);
+  EXPECT_EQ(pulses[0].results, golden(frames[0]));
+  EXPECT_EQ(pulses[1].cycle, 2 * l);
+  EXPECT_EQ(pulses[1].results, golden(frames[2]));
+  EXPECT_EQ(gen.overrun_count(), 2u);
+
+  // Back to back, zero blanking: l pixels per frame pass, l - 1 do not.
+  for (const auto& [w, h, expect_all] :
+       std::vector<std::tuple<uint16_t, uint16_t, bool>>{{10, 10, true}, {9, 11, false}}) {
+    ASSERT_EQ(size_t{w} * h == l, expect_all);
+    MomentGen g;
+    std::vector<LutBeat> b;
+    std::vector<MomentResults> want;
+    for (int i = 0; i < 6; ++i) {
+      const LutFrame f = test::random_frame(rng, w, h);
+      test::append_frame(b, f, rng, 0.0);
+      if (expect_all || i % 2 == 0) want.push_back(golden(f));
+    }
+    const auto p = run_clocked(g, b);
+    ASSERT_EQ(p.size(), want.size()) << w << "x" << h;
+    for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(p[i].results, want[i]) << i;
+    EXPECT_EQ(g.overrun_count(), expect_all ? 0u : 3u);
+  }
+}
+
+// frame_check guarantees positions and rectangular frames; the model checks.
+TEST(MomentGen, NonRectangularFrameOrWrongPositionThrows) {
+  std::mt19937 rng(8);
+  const LutFrame f = test::random_frame(rng, 5, 3);
+  std::vector<LutBeat> beats;
+  test::append_frame(beats, f, rng, 0.0);
+  {
+    std::vector<LutBeat> bad;  // row 1 loses its pixel x = 2: 4 pixels
+    for (const LutBeat& b : beats) {
+      if (b.pix.y == 1 && b.pix.x == 2) continue;
+      bad.push_back(b);
+      if (b.pix.y == 1 && b.pix.x > 2) bad.back().pix.x = static_cast<uint16_t>(b.pix.x - 1);
+    }
+    MomentGen gen;
+    EXPECT_THROW(for (const auto& b : bad) gen.clock(b), std::logic_error);
+  }
+  {
+    auto bad = beats;
+    bad[3].pix.x = 4;
+    MomentGen gen;
+    EXPECT_THROW(for (const auto& b : bad) gen.clock(b), std::logic_error);
+  }
+  {
+    auto bad = beats;
+    bad.pop_back();
+    bad.back().pix.eof = true;  // EOF on a pixel that does not end the row
+    MomentGen gen;
+    EXPECT_THROW(for (const auto& b : bad) gen.clock(b), std::logic_error);
+  }
+  MomentGen gen;
+  EXPECT_NO_THROW(for (const auto& b : beats) gen.clock(b));
+}
+
+// The cycle model runs in every cycle of the pipeline model: print its cost.
+TEST(MomentGen, ClockedThroughput) {
+  std::mt19937 rng(4);
+  const LutFrame f = test::random_frame(rng, 640, 480);
+  std::vector<LutBeat> beats;
+  test::append_frame(beats, f, rng, 0.0);
+  test::append_idle(beats, MomentGen::kCombineCycles);
+  MomentGen gen;
+  const int frames = 10;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < frames; ++i) {
+    for (const LutBeat& b : beats) gen.clock(b);
+  }
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("moment_gen clock(): %.2f ns/cycle (640x480)\n",
+              s * 1e9 / (double(frames) * double(beats.size())));
+  EXPECT_EQ(gen.results(), golden(f));
 }
 
 TEST(MomentGen, FastPathThroughput) {
