@@ -57,6 +57,11 @@ module ceilnav_top (
     put = (v & mask) << lsb;
   endfunction
 
+  // Word index of a byte offset.
+  function automatic logic [AddrBits-3:0] widx(logic [AddrBits-1:0] offset);
+    widx = (AddrBits-2)'(offset >> 2);
+  endfunction
+
   // Address of element i of a register array.
   function automatic logic [AddrBits-1:0] elem(logic [AddrBits-1:0] base, int unsigned i,
                                                int unsigned stride);
@@ -77,7 +82,7 @@ module ceilnav_top (
   logic                 lut_pending_q;  // copy of thresh_lut's pending flag (STATUS)
   logic                 gate_open_q, in_frame_q;
   logic                 soft_rst_q;     // datapath held in reset
-  logic [6*32-1:0]      err_prev_q;
+  logic [5:0]           err_lsb_prev_q;  // bit 0 of each frame_check counter, one edge old
   logic [31:0]          trailers_lost_prev_q;
   logic [31:0]          cycle_q, frame_count_q, eof_edge_q, eof_to_irq_q;
 
@@ -87,6 +92,10 @@ module ceilnav_top (
   logic [AddrBits-1:0]  rd_addr_q;
   logic [31:0]          rd_data_q, rdata_q;
   logic                 rd_hist_q;  // the response is the histogram port's data
+  localparam int unsigned RdWords = 1 << (AddrBits - 2);
+  logic [RdWords-1:0]   rd_sel_q;   // one-hot word of rd_addr_q (none if misaligned)
+  logic [31:0]          rd_word[RdWords];
+  logic [RdWords-1:0]   rd_word_ok;
 
   // ---------------------------------------------------------------------------
   // Datapath
@@ -164,7 +173,7 @@ module ceilnav_top (
 
   // ---------------------------------------------------------------------------
   // Read sample (edge after the AR handshake): the register before this edge.
-  logic        rd_sample, run_pop;
+  logic        rd_sample, run_pop, rd_ok;
   logic [31:0] rd_value;
   logic [1:0]  rd_resp;
   logic [31:0] head_w0, head_w1, head_w2, head_w3;
@@ -175,128 +184,163 @@ module ceilnav_top (
   assign head_w2 = pipe_tdata[95:64];   // sum_xw
   assign head_w3 = {16'd0, pipe_tdata[111:96]};  // x_end
 
+  // Readable words, by word address addr[AddrBits-1:2]; rd_word_ok marks the
+  // registers. The read multiplexer is an AND-OR over a one-hot word select
+  // registered with the AR handshake (rd_sel_q): on iCE40 LUT4s that costs
+  // about 2/3 of a binary mux tree over ~50 wide words. A word that is no
+  // register, or a misaligned address, selects nothing: 0 with SLVERR.
+  always_comb begin
+    for (int unsigned w = 0; w < RdWords; w++) begin
+      rd_word[w] = 32'd0;
+    end
+    rd_word_ok = '0;
+    rd_word[widx(CEILNAV_ID_OFFSET)] = CEILNAV_ID_RESVAL;
+    rd_word_ok[widx(CEILNAV_ID_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_VERSION_OFFSET)] = CEILNAV_VERSION_RESVAL;
+    rd_word_ok[widx(CEILNAV_VERSION_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_CONTROL_OFFSET)] =
+        put(32'(enable_q), CEILNAV_CONTROL_ENABLE_LSB, CEILNAV_CONTROL_ENABLE_WIDTH) |
+        put(32'(run_sink_q), CEILNAV_CONTROL_RUN_SINK_LSB, CEILNAV_CONTROL_RUN_SINK_WIDTH);
+    rd_word_ok[widx(CEILNAV_CONTROL_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_STATUS_OFFSET)] =
+        put(32'(in_frame_q), CEILNAV_STATUS_IN_FRAME_LSB, CEILNAV_STATUS_IN_FRAME_WIDTH) |
+        put(32'(res_valid), CEILNAV_STATUS_RESULTS_VALID_LSB, CEILNAV_STATUS_RESULTS_VALID_WIDTH) |
+        put(32'(pipe_tvalid), CEILNAV_STATUS_RUN_AVAIL_LSB, CEILNAV_STATUS_RUN_AVAIL_WIDTH) |
+        put(32'(gate_open_q), CEILNAV_STATUS_GATE_OPEN_LSB, CEILNAV_STATUS_GATE_OPEN_WIDTH) |
+        put(32'(lut_pending_q), CEILNAV_STATUS_LUT_PENDING_LSB, CEILNAV_STATUS_LUT_PENDING_WIDTH);
+    rd_word_ok[widx(CEILNAV_STATUS_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_INTR_STATE_OFFSET)] = 32'(intr_state_q);
+    rd_word_ok[widx(CEILNAV_INTR_STATE_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_INTR_ENABLE_OFFSET)] = 32'(intr_enable_q);
+    rd_word_ok[widx(CEILNAV_INTR_ENABLE_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_INTR_TEST_OFFSET)] = 32'd0;
+    rd_word_ok[widx(CEILNAV_INTR_TEST_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_WIDTH_OFFSET)] =
+        put(32'(width_q), CEILNAV_WIDTH_VALUE_LSB, CEILNAV_WIDTH_VALUE_WIDTH);
+    rd_word_ok[widx(CEILNAV_WIDTH_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_HEIGHT_OFFSET)] =
+        put(32'(height_q), CEILNAV_HEIGHT_VALUE_LSB, CEILNAV_HEIGHT_VALUE_WIDTH);
+    rd_word_ok[widx(CEILNAV_HEIGHT_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_BACKGROUND_LEVEL_OFFSET)] =
+        put(32'(background_q), CEILNAV_BACKGROUND_LEVEL_VALUE_LSB,
+            CEILNAV_BACKGROUND_LEVEL_VALUE_WIDTH);
+    rd_word_ok[widx(CEILNAV_BACKGROUND_LEVEL_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_MIN_RUN_LENGTH_OFFSET)] =
+        put(32'(min_run_q), CEILNAV_MIN_RUN_LENGTH_VALUE_LSB, CEILNAV_MIN_RUN_LENGTH_VALUE_WIDTH);
+    rd_word_ok[widx(CEILNAV_MIN_RUN_LENGTH_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_MAX_RUNS_PER_ROW_OFFSET)] =
+        put(32'(max_runs_q), CEILNAV_MAX_RUNS_PER_ROW_VALUE_LSB,
+            CEILNAV_MAX_RUNS_PER_ROW_VALUE_WIDTH);
+    rd_word_ok[widx(CEILNAV_MAX_RUNS_PER_ROW_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_HIST_SOURCE_OFFSET)] =
+        put(32'(hist_src_q), CEILNAV_HIST_SOURCE_REMAP_LSB, CEILNAV_HIST_SOURCE_REMAP_WIDTH);
+    rd_word_ok[widx(CEILNAV_HIST_SOURCE_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_LUT_INDEX_OFFSET)] =
+        put(32'(lut_index_q), CEILNAV_LUT_INDEX_VALUE_LSB, CEILNAV_LUT_INDEX_VALUE_WIDTH);
+    rd_word_ok[widx(CEILNAV_LUT_INDEX_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_LUT_DATA_OFFSET)] = 32'd0;
+    rd_word_ok[widx(CEILNAV_LUT_DATA_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_HIST_INDEX_OFFSET)] =
+        put(32'(hist_index_q), CEILNAV_HIST_INDEX_VALUE_LSB, CEILNAV_HIST_INDEX_VALUE_WIDTH);
+    rd_word_ok[widx(CEILNAV_HIST_INDEX_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_HIST_DATA_OFFSET)] = 32'd0;  // from the histogram port, one edge later
+    rd_word_ok[widx(CEILNAV_HIST_DATA_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUN_FIFO_LEVEL_OFFSET)] =
+        put(32'(fifo_occupancy) + 32'(pipe_tvalid), CEILNAV_RUN_FIFO_LEVEL_VALUE_LSB,
+            CEILNAV_RUN_FIFO_LEVEL_VALUE_WIDTH);
+    rd_word_ok[widx(CEILNAV_RUN_FIFO_LEVEL_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUN_FIFO_DEPTH_OFFSET)] =
+        put(32'(RunFifoDepth), CEILNAV_RUN_FIFO_DEPTH_VALUE_LSB,
+            CEILNAV_RUN_FIFO_DEPTH_VALUE_WIDTH);
+    rd_word_ok[widx(CEILNAV_RUN_FIFO_DEPTH_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUN_WORD0_OFFSET)] =
+        {32{pipe_tvalid}} & (put(32'd1, CEILNAV_RUN_WORD0_VALID_LSB,
+                                 CEILNAV_RUN_WORD0_VALID_WIDTH) |
+        put(32'(pipe_tlast), CEILNAV_RUN_WORD0_LAST_LSB, CEILNAV_RUN_WORD0_LAST_WIDTH) |
+        put({16'd0, head_w0[15:0]}, CEILNAV_RUN_WORD0_ROW_LSB, CEILNAV_RUN_WORD0_ROW_WIDTH));
+    rd_word_ok[widx(CEILNAV_RUN_WORD0_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUN_WORD1_OFFSET)] =
+        {32{pipe_tvalid}} & (put({16'd0, head_w0[31:16]}, CEILNAV_RUN_WORD1_X_START_LSB,
+                                 CEILNAV_RUN_WORD1_X_START_WIDTH) |
+        put(head_w3, CEILNAV_RUN_WORD1_X_END_LSB, CEILNAV_RUN_WORD1_X_END_WIDTH));
+    rd_word_ok[widx(CEILNAV_RUN_WORD1_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUN_WORD2_OFFSET)] =
+        {32{pipe_tvalid}} & (put(head_w1, CEILNAV_RUN_WORD2_SUM_W_LSB,
+                                 CEILNAV_RUN_WORD2_SUM_W_WIDTH));
+    rd_word_ok[widx(CEILNAV_RUN_WORD2_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUN_WORD3_OFFSET)] =
+        {32{pipe_tvalid}} & (put(head_w2, CEILNAV_RUN_WORD3_SUM_XW_LSB,
+                                 CEILNAV_RUN_WORD3_SUM_XW_WIDTH));
+    rd_word_ok[widx(CEILNAV_RUN_WORD3_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RES_FRAME_INDEX_OFFSET)] = res_frame_index;
+    rd_word_ok[widx(CEILNAV_RES_FRAME_INDEX_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_FRAME_COUNT_OFFSET)] = frame_count_q;
+    rd_word_ok[widx(CEILNAV_FRAME_COUNT_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_CYCLES_PER_FRAME_OFFSET)] = res_cycles;
+    rd_word_ok[widx(CEILNAV_CYCLES_PER_FRAME_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_EOF_TO_IRQ_CYCLES_OFFSET)] = eof_to_irq_q;
+    rd_word_ok[widx(CEILNAV_EOF_TO_IRQ_CYCLES_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUNS_EMITTED_OFFSET)] = res_emitted;
+    rd_word_ok[widx(CEILNAV_RUNS_EMITTED_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUNS_DROPPED_ROW_LIMIT_OFFSET)] = res_row_limit;
+    rd_word_ok[widx(CEILNAV_RUNS_DROPPED_ROW_LIMIT_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUNS_DROPPED_OVERFLOW_OFFSET)] = res_overflow;
+    rd_word_ok[widx(CEILNAV_RUNS_DROPPED_OVERFLOW_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUN_FIFO_HIGH_WATER_OFFSET)] = res_high_water;
+    rd_word_ok[widx(CEILNAV_RUN_FIFO_HIGH_WATER_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RES_EARLY_EOL_OFFSET)] = res_errors[0*32 +: 32];
+    rd_word_ok[widx(CEILNAV_RES_EARLY_EOL_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RES_LATE_EOL_OFFSET)] = res_errors[1*32 +: 32];
+    rd_word_ok[widx(CEILNAV_RES_LATE_EOL_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RES_EARLY_SOF_OFFSET)] = res_errors[2*32 +: 32];
+    rd_word_ok[widx(CEILNAV_RES_EARLY_SOF_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RES_MISSING_SOF_OFFSET)] = res_errors[3*32 +: 32];
+    rd_word_ok[widx(CEILNAV_RES_MISSING_SOF_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RES_FRAMES_OK_OFFSET)] = res_errors[4*32 +: 32];
+    rd_word_ok[widx(CEILNAV_RES_FRAMES_OK_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RES_FRAMES_ABORTED_OFFSET)] = res_errors[5*32 +: 32];
+    rd_word_ok[widx(CEILNAV_RES_FRAMES_ABORTED_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_CNT_EARLY_EOL_OFFSET)] = errors[0*32 +: 32];
+    rd_word_ok[widx(CEILNAV_CNT_EARLY_EOL_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_CNT_LATE_EOL_OFFSET)] = errors[1*32 +: 32];
+    rd_word_ok[widx(CEILNAV_CNT_LATE_EOL_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_CNT_EARLY_SOF_OFFSET)] = errors[2*32 +: 32];
+    rd_word_ok[widx(CEILNAV_CNT_EARLY_SOF_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_CNT_MISSING_SOF_OFFSET)] = errors[3*32 +: 32];
+    rd_word_ok[widx(CEILNAV_CNT_MISSING_SOF_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_CNT_FRAMES_OK_OFFSET)] = errors[4*32 +: 32];
+    rd_word_ok[widx(CEILNAV_CNT_FRAMES_OK_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_CNT_FRAMES_ABORTED_OFFSET)] = errors[5*32 +: 32];
+    rd_word_ok[widx(CEILNAV_CNT_FRAMES_ABORTED_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_RUN_TRAILERS_LOST_OFFSET)] = trailers_lost;
+    rd_word_ok[widx(CEILNAV_RUN_TRAILERS_LOST_OFFSET)] = 1'b1;
+    rd_word[widx(CEILNAV_FRAMES_OVERRUN_OFFSET)] = frames_overrun;
+    rd_word_ok[widx(CEILNAV_FRAMES_OVERRUN_OFFSET)] = 1'b1;
+    // The moment arrays: MOM_*[i] at OFFSET + i * STRIDE.
+    for (int unsigned i = 0; i < CEILNAV_MOM_GREY_LO_COUNT; i++) begin
+      rd_word[widx(elem(CEILNAV_MOM_GREY_LO_OFFSET, i, CEILNAV_MOM_GREY_LO_STRIDE))] =
+          res_grey[64*i +: 32];
+      rd_word[widx(elem(CEILNAV_MOM_GREY_HI_OFFSET, i, CEILNAV_MOM_GREY_HI_STRIDE))] =
+          res_grey[64*i+32 +: 32];
+      rd_word[widx(elem(CEILNAV_MOM_MASK_LO_OFFSET, i, CEILNAV_MOM_MASK_LO_STRIDE))] =
+          res_mask[64*i +: 32];
+      rd_word[widx(elem(CEILNAV_MOM_MASK_HI_OFFSET, i, CEILNAV_MOM_MASK_HI_STRIDE))] =
+          res_mask[64*i+32 +: 32];
+      rd_word_ok[widx(elem(CEILNAV_MOM_GREY_LO_OFFSET, i, CEILNAV_MOM_GREY_LO_STRIDE))] = 1'b1;
+      rd_word_ok[widx(elem(CEILNAV_MOM_GREY_HI_OFFSET, i, CEILNAV_MOM_GREY_HI_STRIDE))] = 1'b1;
+      rd_word_ok[widx(elem(CEILNAV_MOM_MASK_LO_OFFSET, i, CEILNAV_MOM_MASK_LO_STRIDE))] = 1'b1;
+      rd_word_ok[widx(elem(CEILNAV_MOM_MASK_HI_OFFSET, i, CEILNAV_MOM_MASK_HI_STRIDE))] = 1'b1;
+    end
+  end
+
   always_comb begin
     rd_value = 32'd0;
-    rd_resp  = RespOkay;
-    unique case (rd_addr_q)
-      CEILNAV_ID_OFFSET:      rd_value = CEILNAV_ID_RESVAL;
-      CEILNAV_VERSION_OFFSET: rd_value = CEILNAV_VERSION_RESVAL;
-      CEILNAV_CONTROL_OFFSET: begin
-        rd_value = put(32'(enable_q), CEILNAV_CONTROL_ENABLE_LSB, CEILNAV_CONTROL_ENABLE_WIDTH) |
-                   put(32'(run_sink_q), CEILNAV_CONTROL_RUN_SINK_LSB,
-                       CEILNAV_CONTROL_RUN_SINK_WIDTH);
-      end
-      CEILNAV_STATUS_OFFSET: begin
-        rd_value =
-            put(32'(in_frame_q), CEILNAV_STATUS_IN_FRAME_LSB, CEILNAV_STATUS_IN_FRAME_WIDTH) |
-            put(32'(res_valid), CEILNAV_STATUS_RESULTS_VALID_LSB,
-                CEILNAV_STATUS_RESULTS_VALID_WIDTH) |
-            put(32'(pipe_tvalid), CEILNAV_STATUS_RUN_AVAIL_LSB, CEILNAV_STATUS_RUN_AVAIL_WIDTH) |
-            put(32'(gate_open_q), CEILNAV_STATUS_GATE_OPEN_LSB, CEILNAV_STATUS_GATE_OPEN_WIDTH) |
-            put(32'(lut_pending_q), CEILNAV_STATUS_LUT_PENDING_LSB,
-                CEILNAV_STATUS_LUT_PENDING_WIDTH);
-      end
-      CEILNAV_INTR_STATE_OFFSET:  rd_value = 32'(intr_state_q);
-      CEILNAV_INTR_ENABLE_OFFSET: rd_value = 32'(intr_enable_q);
-      CEILNAV_INTR_TEST_OFFSET:   rd_value = 32'd0;
-      CEILNAV_WIDTH_OFFSET:
-        rd_value = put(32'(width_q), CEILNAV_WIDTH_VALUE_LSB, CEILNAV_WIDTH_VALUE_WIDTH);
-      CEILNAV_HEIGHT_OFFSET:
-        rd_value = put(32'(height_q), CEILNAV_HEIGHT_VALUE_LSB, CEILNAV_HEIGHT_VALUE_WIDTH);
-      CEILNAV_BACKGROUND_LEVEL_OFFSET:
-        rd_value = put(32'(background_q), CEILNAV_BACKGROUND_LEVEL_VALUE_LSB,
-                       CEILNAV_BACKGROUND_LEVEL_VALUE_WIDTH);
-      CEILNAV_MIN_RUN_LENGTH_OFFSET:
-        rd_value = put(32'(min_run_q), CEILNAV_MIN_RUN_LENGTH_VALUE_LSB,
-                       CEILNAV_MIN_RUN_LENGTH_VALUE_WIDTH);
-      CEILNAV_MAX_RUNS_PER_ROW_OFFSET:
-        rd_value = put(32'(max_runs_q), CEILNAV_MAX_RUNS_PER_ROW_VALUE_LSB,
-                       CEILNAV_MAX_RUNS_PER_ROW_VALUE_WIDTH);
-      CEILNAV_HIST_SOURCE_OFFSET:
-        rd_value = put(32'(hist_src_q), CEILNAV_HIST_SOURCE_REMAP_LSB,
-                       CEILNAV_HIST_SOURCE_REMAP_WIDTH);
-      CEILNAV_LUT_INDEX_OFFSET:
-        rd_value = put(32'(lut_index_q), CEILNAV_LUT_INDEX_VALUE_LSB,
-                       CEILNAV_LUT_INDEX_VALUE_WIDTH);
-      CEILNAV_LUT_DATA_OFFSET:  rd_value = 32'd0;
-      CEILNAV_HIST_INDEX_OFFSET:
-        rd_value = put(32'(hist_index_q), CEILNAV_HIST_INDEX_VALUE_LSB,
-                       CEILNAV_HIST_INDEX_VALUE_WIDTH);
-      CEILNAV_HIST_DATA_OFFSET: rd_value = 32'd0;  // from the histogram port, one edge later
-      CEILNAV_RUN_FIFO_LEVEL_OFFSET:
-        rd_value = put(32'(fifo_occupancy) + 32'(pipe_tvalid), CEILNAV_RUN_FIFO_LEVEL_VALUE_LSB,
-                       CEILNAV_RUN_FIFO_LEVEL_VALUE_WIDTH);
-      CEILNAV_RUN_FIFO_DEPTH_OFFSET:
-        rd_value = put(32'(RunFifoDepth), CEILNAV_RUN_FIFO_DEPTH_VALUE_LSB,
-                       CEILNAV_RUN_FIFO_DEPTH_VALUE_WIDTH);
-      CEILNAV_RUN_WORD0_OFFSET:
-        if (pipe_tvalid) begin
-          rd_value = put(32'd1, CEILNAV_RUN_WORD0_VALID_LSB, CEILNAV_RUN_WORD0_VALID_WIDTH) |
-                     put(32'(pipe_tlast), CEILNAV_RUN_WORD0_LAST_LSB,
-                         CEILNAV_RUN_WORD0_LAST_WIDTH) |
-                     put({16'd0, head_w0[15:0]}, CEILNAV_RUN_WORD0_ROW_LSB,
-                         CEILNAV_RUN_WORD0_ROW_WIDTH);
-        end
-      CEILNAV_RUN_WORD1_OFFSET:
-        if (pipe_tvalid) begin
-          rd_value = put({16'd0, head_w0[31:16]}, CEILNAV_RUN_WORD1_X_START_LSB,
-                         CEILNAV_RUN_WORD1_X_START_WIDTH) |
-                     put(head_w3, CEILNAV_RUN_WORD1_X_END_LSB, CEILNAV_RUN_WORD1_X_END_WIDTH);
-        end
-      CEILNAV_RUN_WORD2_OFFSET:
-        if (pipe_tvalid) begin
-          rd_value = put(head_w1, CEILNAV_RUN_WORD2_SUM_W_LSB, CEILNAV_RUN_WORD2_SUM_W_WIDTH);
-        end
-      CEILNAV_RUN_WORD3_OFFSET:
-        if (pipe_tvalid) begin
-          rd_value = put(head_w2, CEILNAV_RUN_WORD3_SUM_XW_LSB, CEILNAV_RUN_WORD3_SUM_XW_WIDTH);
-        end
-      CEILNAV_RES_FRAME_INDEX_OFFSET:        rd_value = res_frame_index;
-      CEILNAV_FRAME_COUNT_OFFSET:            rd_value = frame_count_q;
-      CEILNAV_CYCLES_PER_FRAME_OFFSET:       rd_value = res_cycles;
-      CEILNAV_EOF_TO_IRQ_CYCLES_OFFSET:      rd_value = eof_to_irq_q;
-      CEILNAV_RUNS_EMITTED_OFFSET:           rd_value = res_emitted;
-      CEILNAV_RUNS_DROPPED_ROW_LIMIT_OFFSET: rd_value = res_row_limit;
-      CEILNAV_RUNS_DROPPED_OVERFLOW_OFFSET:  rd_value = res_overflow;
-      CEILNAV_RUN_FIFO_HIGH_WATER_OFFSET:    rd_value = res_high_water;
-      CEILNAV_RES_EARLY_EOL_OFFSET:          rd_value = res_errors[0*32 +: 32];
-      CEILNAV_RES_LATE_EOL_OFFSET:           rd_value = res_errors[1*32 +: 32];
-      CEILNAV_RES_EARLY_SOF_OFFSET:          rd_value = res_errors[2*32 +: 32];
-      CEILNAV_RES_MISSING_SOF_OFFSET:        rd_value = res_errors[3*32 +: 32];
-      CEILNAV_RES_FRAMES_OK_OFFSET:          rd_value = res_errors[4*32 +: 32];
-      CEILNAV_RES_FRAMES_ABORTED_OFFSET:     rd_value = res_errors[5*32 +: 32];
-      CEILNAV_CNT_EARLY_EOL_OFFSET:          rd_value = errors[0*32 +: 32];
-      CEILNAV_CNT_LATE_EOL_OFFSET:           rd_value = errors[1*32 +: 32];
-      CEILNAV_CNT_EARLY_SOF_OFFSET:          rd_value = errors[2*32 +: 32];
-      CEILNAV_CNT_MISSING_SOF_OFFSET:        rd_value = errors[3*32 +: 32];
-      CEILNAV_CNT_FRAMES_OK_OFFSET:          rd_value = errors[4*32 +: 32];
-      CEILNAV_CNT_FRAMES_ABORTED_OFFSET:     rd_value = errors[5*32 +: 32];
-      CEILNAV_RUN_TRAILERS_LOST_OFFSET:      rd_value = trailers_lost;
-      CEILNAV_FRAMES_OVERRUN_OFFSET:         rd_value = frames_overrun;
-      default: begin
-        rd_resp = RespSlvErr;
-        // The moment arrays: MOM_*[i] at OFFSET + i * STRIDE.
-        for (int unsigned i = 0; i < CEILNAV_MOM_GREY_LO_COUNT; i++) begin
-          if (rd_addr_q == elem(CEILNAV_MOM_GREY_LO_OFFSET, i, CEILNAV_MOM_GREY_LO_STRIDE)) begin
-            rd_value = res_grey[64*i +: 32];
-            rd_resp  = RespOkay;
-          end
-          if (rd_addr_q == elem(CEILNAV_MOM_GREY_HI_OFFSET, i, CEILNAV_MOM_GREY_HI_STRIDE)) begin
-            rd_value = res_grey[64*i+32 +: 32];
-            rd_resp  = RespOkay;
-          end
-          if (rd_addr_q == elem(CEILNAV_MOM_MASK_LO_OFFSET, i, CEILNAV_MOM_MASK_LO_STRIDE)) begin
-            rd_value = res_mask[64*i +: 32];
-            rd_resp  = RespOkay;
-          end
-          if (rd_addr_q == elem(CEILNAV_MOM_MASK_HI_OFFSET, i, CEILNAV_MOM_MASK_HI_STRIDE)) begin
-            rd_value = res_mask[64*i+32 +: 32];
-            rd_resp  = RespOkay;
-          end
-        end
-      end
-    endcase
+    for (int unsigned w = 0; w < RdWords; w++) begin
+      rd_value = rd_value | (rd_word[w] & {32{rd_sel_q[w] & rd_word_ok[w]}});
+    end
   end
+  assign rd_ok   = |(rd_sel_q & rd_word_ok);
+  assign rd_resp = rd_ok ? RespOkay : RespSlvErr;
 
   // Read side effects on the sample edge (only for an OKAY read).
   assign hist_rd_en  = rd_sample & (rd_addr_q == CEILNAV_HIST_DATA_OFFSET);
@@ -356,13 +400,19 @@ module ceilnav_top (
   logic [IntrBits-1:0] events, intr_state_d, intr_enable_d;
   logic                enable_d, irq_before, irq_after;
 
-  assign events_frame_error =
-      (errors[0*32 +: 4*32] != err_prev_q[0*32 +: 4*32]) |
-      (errors[5*32 +: 32] != err_prev_q[5*32 +: 32]);
-  assign eof_seen = errors[4*32 +: 32] != err_prev_q[4*32 +: 32];
+  // The frame_check counters move by +1 or not at all (saturating) on an edge,
+  // or go to 0 with the datapath reset, which also clears err_lsb_prev_q:
+  // a counter changed on the last edge iff its bit 0 did.
+  logic [5:0] err_lsb, err_changed;
+  for (genvar i = 0; i < 6; i++) begin : g_err_lsb
+    assign err_lsb[i] = errors[i*32];
+  end
+  assign err_changed = err_lsb ^ err_lsb_prev_q;
+
+  assign events_frame_error = (|err_changed[3:0]) | err_changed[5];
+  assign eof_seen = err_changed[4];
   // An early SOF aborts a frame and opens the next one on the same beat.
-  assign frame_closed = eof_seen | ((errors[5*32 +: 32] != err_prev_q[5*32 +: 32]) &
-                                    (errors[2*32 +: 32] == err_prev_q[2*32 +: 32]));
+  assign frame_closed = eof_seen | (err_changed[5] & ~err_changed[2]);
   assign events_run_overflow = (frame_done & (res_overflow != 32'd0)) |
                                (trailers_lost != trailers_lost_prev_q);
   assign events = IntrBits'(
@@ -401,7 +451,7 @@ module ceilnav_top (
       gate_open_q          <= 1'b0;
       in_frame_q           <= 1'b0;
       soft_rst_q           <= 1'b0;
-      err_prev_q           <= '0;
+      err_lsb_prev_q       <= '0;
       trailers_lost_prev_q <= '0;
       cycle_q              <= '0;
       frame_count_q        <= '0;
@@ -470,7 +520,7 @@ module ceilnav_top (
       end else if (pass && s_axis_video_tuser_i && !soft_rst_q) begin
         lut_pending_q <= 1'b0;
       end
-      err_prev_q           <= errors;
+      err_lsb_prev_q       <= err_lsb;
       trailers_lost_prev_q <= trailers_lost;
       cycle_q              <= cycle_q + 32'd1;
       soft_rst_q           <= soft_reset;
@@ -479,7 +529,7 @@ module ceilnav_top (
       if (soft_reset) begin
         lut_pending_q        <= 1'b0;
         in_frame_q           <= 1'b0;
-        err_prev_q           <= '0;
+        err_lsb_prev_q       <= '0;
         trailers_lost_prev_q <= '0;
         frame_count_q        <= '0;
         eof_edge_q           <= '0;
@@ -501,6 +551,7 @@ module ceilnav_top (
       rresp_q    <= RespOkay;
       rd_stage_q <= 2'd0;
       rd_addr_q  <= '0;
+      rd_sel_q   <= '0;
       rd_data_q  <= '0;
       rd_resp_q  <= RespOkay;
       rd_hist_q  <= 1'b0;
@@ -540,6 +591,8 @@ module ceilnav_top (
       if (ar_hs) begin
         arready_q  <= 1'b0;
         rd_addr_q  <= s_axil_araddr_i[AddrBits-1:0];
+        rd_sel_q   <= (s_axil_araddr_i[1:0] == 2'b00) ?
+                      (RdWords'(1) << s_axil_araddr_i[AddrBits-1:2]) : '0;
         rd_stage_q <= 2'd1;
       end
     end

@@ -2,7 +2,9 @@
 // Two ping-pong BRAM banks of 256 x BinBits with a pipelined read-modify-write
 // (read on the sampling edge, write on the next edge, forwarding for
 // back-to-back hits on one bin) and a flash-cleared valid bit per bin in
-// flip-flops. Cycle-exact twin of stream/histogram.cpp
+// flip-flops: one set for the accumulating frame, one copy for the result
+// bank (the bank roles swap, the valid sets do not: no bank mux on them).
+// Cycle-exact twin of stream/histogram.cpp
 // (Histogram::clock with the read port); see docs/blocks/histogram.md.
 // done_o: EOF sampled on edge e -> done_o high after edge e+1 (1 cycle).
 // Read port: hist_rd_en_i/hist_rd_bin_i sampled on edge t ->
@@ -55,8 +57,8 @@ module histogram #(
   logic eof_d, eof_q;              // EOF pixel sampled on the previous edge
   logic done_q;
 
-  logic [255:0] valid0_d, valid0_q;  // per bin: counted in bank 0's frame
-  logic [255:0] valid1_d, valid1_q;
+  logic [255:0] valid_acc_q;   // per bin: counted in the accumulating bank's frame
+  logic [255:0] valid_disp_q;  // per bin: counted in the result bank's frame
 
   // Stage 1 -> 2 of the read-modify-write
   logic               s1_accum_d, s1_accum_q;  // count written on the next edge
@@ -75,7 +77,6 @@ module histogram #(
   logic         src_remap;
   logic [7:0]   bin;
   logic         accum;
-  logic [255:0] valid_acc_q;
   logic [255:0] bin_onehot;
   logic [255:0] valid_acc_d;
 
@@ -83,7 +84,6 @@ module histogram #(
   assign src_remap   = s_lut_sof_i ? source_remap_i : source_remap_q;
   assign bin         = src_remap ? s_lut_remap_i : s_lut_grey_i;
   assign accum       = s_lut_valid_i & (s_lut_sof_i | open_eff);
-  assign valid_acc_q = acc_bank_q ? valid1_q : valid0_q;
 
   always_comb begin
     bin_onehot      = '0;
@@ -104,19 +104,10 @@ module histogram #(
     fin_bank_d     = fin_bank_q;
     frame_open_d   = open_eff;
     source_remap_d = source_remap_q;
-    valid0_d       = valid0_q;
-    valid1_d       = valid1_q;
 
     if (s_lut_valid_i && s_lut_sof_i) begin
       source_remap_d = source_remap_i;
       frame_open_d   = 1'b1;
-    end
-    if (accum) begin
-      if (acc_bank_q) begin
-        valid1_d = valid_acc_d;
-      end else begin
-        valid0_d = valid_acc_d;
-      end
     end
     if (accum && s_lut_eof_i) begin
       fin_bank_d   = acc_bank_q;
@@ -189,8 +180,8 @@ module histogram #(
       source_remap_q <= 1'b0;
       eof_q          <= 1'b0;
       done_q         <= 1'b0;
-      valid0_q       <= '0;
-      valid1_q       <= '0;
+      valid_acc_q    <= '0;
+      valid_disp_q   <= '0;
       s1_accum_q     <= 1'b0;
       s1_bin_q       <= 8'd0;
       s1_bank_q      <= 1'b0;
@@ -208,8 +199,15 @@ module histogram #(
       source_remap_q <= source_remap_d;
       eof_q          <= eof_d;
       done_q         <= eof_q;
-      valid0_q       <= valid0_d;
-      valid1_q       <= valid1_d;
+      if (accum) begin
+        valid_acc_q <= valid_acc_d;
+      end
+      // The result bank switches to the finished frame's bank on this edge:
+      // its valid set is the accumulating set before this edge (an SOF pixel
+      // on this edge clears valid_acc_q only after it).
+      if (eof_q) begin
+        valid_disp_q <= valid_acc_q;
+      end
       s1_accum_q     <= s1_accum_d;
       s1_bin_q       <= s1_bin_d;
       s1_bank_q      <= s1_bank_d;
@@ -219,7 +217,7 @@ module histogram #(
         last_count_q <= new_count;
       end
       rd_en_q        <= hist_rd_en_i;
-      rd_hit_q       <= disp_bank_q ? valid1_q[hist_rd_bin_i] : valid0_q[hist_rd_bin_i];
+      rd_hit_q       <= valid_disp_q[hist_rd_bin_i];
       rd_bank_q      <= disp_bank_q;
     end
   end

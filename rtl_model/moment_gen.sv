@@ -25,6 +25,7 @@ module moment_gen (
 
   output logic        done_o,          // one-cycle pulse: the moment outputs were just updated
   output logic        done_next_o,     // done_o rises on the next edge (Moore)
+  output logic        eof_accept_o,    // the EOF beat on the input is taken (Mealy)
   output logic [29:0] grey_m00_o,
   output logic [39:0] grey_m10_o,
   output logic [39:0] grey_m01_o,
@@ -487,6 +488,7 @@ module moment_gen (
 
   assign combine_busy_o  = busy_q;
   assign done_next_o     = last_step;
+  assign eof_accept_o    = accept;
   assign overrun_count_o = overrun_count_q;
 
   // The camera pixel itself is not used: moments are of the LUT output.

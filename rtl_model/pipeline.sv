@@ -3,13 +3,14 @@
 // result registers. Cycle-exact twin of stream/pipeline.cpp (Pipeline::clock
 // with the histogram read port); see docs/blocks/pipeline.md, section "RTL".
 //
-// Publication: the stage-3 EOF beat sampled on edge T is staged on edge T+1
-// (run stats and frame meta, if moment_gen did not drop the frame) and the
-// whole set is published on the edge on which moment_gen raises done_o
-// (moment_gen's done_next_o is high before it; edge T+MomentGen::kCombineCycles).
-// The moments are not copied: moment_gen's output registers change only on
-// that edge. At most one staged set waits: moment_gen accepts the next EOF no
-// earlier than that edge, and it is staged one edge later.
+// Publication: if moment_gen takes the stage-3 EOF beat sampled on edge T
+// (eof_accept_o), the frame meta is staged on edge T and the run stats on
+// edge T+1, and the whole set is published on the edge on which moment_gen
+// raises done_o (its done_next_o is high before it; edge
+// T+MomentGen::kCombineCycles). The moments are not copied: moment_gen's
+// output registers change only on that edge. At most one staged set waits:
+// moment_gen takes the next EOF no earlier than that edge (on it, the old set
+// is published while the new meta is staged).
 // The histogram is read through the histogram block's port; its result bank
 // switches on edge T+1 (Pipeline::kHistSwitchCycles after the video EOF).
 module pipeline #(
@@ -157,18 +158,19 @@ module pipeline #(
 
   // Frame meta of the EOF pixel leaving frame_check (FrameMeta):
   // {cycles_in_frame, errors, frame_index}.
-  localparam int unsigned MetaBits = 32 + 6 * 32 + 32;
+  // frame_index = frames_ok - 1 of the same snapshot: formed at the output.
+  localparam int unsigned MetaBits = 32 + 6 * 32;
   logic [31:0]         frame_cycles_q;  // cycles since the SOF pixel left frame_check, saturating
   logic [31:0]         frame_cycles;    // SOF pixel to this pixel, inclusive
   logic [MetaBits-1:0] meta_fc, meta_lut_q;
 
   assign frame_cycles = (fc_valid && fc_sof) ? 32'd1 : frame_cycles_q;
-  assign meta_fc = {frame_cycles, fc_errors, fc_errors[ErrFramesOk*32 +: 32] - 32'd1};
+  assign meta_fc = {frame_cycles, fc_errors};
 
   // ---------------------------------------------------------------------------
   // Stage 3: histogram, moment_gen, run_scanner (all sample thresh_lut's output).
   logic [31:0] mom_overrun;
-  logic        mom_done, mom_done_next, unused_mom_busy;
+  logic        mom_done, mom_done_next, mom_accept, unused_mom_busy;
   logic [29:0] g00;
   logic [39:0] g10, g01;
   logic [50:0] g20, g02;
@@ -216,6 +218,7 @@ module pipeline #(
     .s_lut_mask_i   (lut_mask),
     .done_o         (mom_done),
     .done_next_o    (mom_done_next),
+    .eof_accept_o   (mom_accept),
     .grey_m00_o     (g00),
     .grey_m10_o     (g10),
     .grey_m01_o     (g01),
@@ -268,17 +271,17 @@ module pipeline #(
 
   // ---------------------------------------------------------------------------
   // Staging and publication. An EOF that moment_gen drops (overrun_count
-  // moves on its edge) is neither staged nor published.
+  // moves on its edge) is neither staged nor published. (C++ decides by
+  // comparing overrun_count before and after the edge: the same, except once
+  // the counter has saturated at 2^32 - 1.)
   localparam int unsigned RunStatBits = 4 * 32;
-  logic                   pend_q;          // stage-3 EOF sampled on the last edge
-  logic [MetaBits-1:0]    pend_meta_q;
-  logic [31:0]            pend_overrun_q;  // overrun_count before that edge
-  logic                   accept;
+  logic                   accept;       // moment_gen takes the stage-3 EOF on this edge
+  logic                   runs_pend_q;  // ... it did on the last edge: stage the run stats
   logic [MetaBits-1:0]    staged_meta_q, res_meta_q;
   logic [RunStatBits-1:0] staged_runs_q, res_runs_q;
   logic                   res_valid_q;
 
-  assign accept = pend_q & (mom_overrun == pend_overrun_q);
+  assign accept = lut_valid & lut_eof & mom_accept;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
@@ -286,9 +289,7 @@ module pipeline #(
       cfg_lut_q      <= '0;
       frame_cycles_q <= '0;
       meta_lut_q     <= '0;
-      pend_q         <= 1'b0;
-      pend_meta_q    <= '0;
-      pend_overrun_q <= '0;
+      runs_pend_q    <= 1'b0;
       staged_meta_q  <= '0;
       staged_runs_q  <= '0;
       res_meta_q     <= '0;
@@ -305,11 +306,13 @@ module pipeline #(
       if (fc_valid && fc_eof) begin
         meta_lut_q <= meta_fc;
       end
-      pend_q         <= lut_valid & lut_eof;
-      pend_meta_q    <= meta_lut_q;
-      pend_overrun_q <= mom_overrun;
+      // The meta of the EOF pixel is staged on the edge moment_gen takes it;
+      // run_scanner's stats of that frame are final after the same edge.
+      runs_pend_q <= accept;
       if (accept) begin
-        staged_meta_q <= pend_meta_q;
+        staged_meta_q <= meta_lut_q;
+      end
+      if (runs_pend_q) begin
         staged_runs_q <= {rs_high_water, rs_overflow, rs_row_limit, rs_emitted};
       end
       if (mom_done_next) begin
@@ -322,8 +325,9 @@ module pipeline #(
 
   assign frame_done_o                 = mom_done;
   assign res_valid_o                  = res_valid_q;
-  assign res_frame_index_o            = res_meta_q[31:0];
-  assign res_errors_o                 = res_meta_q[32 +: 6*32];
+  assign res_frame_index_o            = res_valid_q ?
+                                        res_meta_q[ErrFramesOk*32 +: 32] - 32'd1 : 32'd0;
+  assign res_errors_o                 = res_meta_q[0 +: 6*32];
   assign res_cycles_in_frame_o        = res_meta_q[MetaBits-1 -: 32];
   assign res_runs_emitted_o           = res_runs_q[0*32 +: 32];
   assign res_runs_dropped_row_limit_o = res_runs_q[1*32 +: 32];
@@ -349,7 +353,7 @@ module pipeline #(
   StagedBeforePublish: assert property (@(posedge clk_i) disable iff (!rst_ni)
       mom_done_next |-> staged_pending_q);
   OneStagedSet: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      accept |-> !staged_pending_q);
+      accept |-> (!staged_pending_q || mom_done_next));
 `endif
 
 endmodule
