@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -23,11 +24,16 @@
 #include "golden/renderer.hpp"
 #include "host/auto_threshold.hpp"
 #include "host/camera_model.hpp"
+#include "host/driver.hpp"
+#include "host/sim_bus.hpp"
 #include "host/tape_pose.hpp"
+#include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
+#include "stream/ceilnav_top.hpp"
 #include "stream/config.hpp"
 #include "stream/pipeline.hpp"
 #include "stream/run_record.hpp"
+#include "stream/run_scanner.hpp"
 
 #if CEILNAV_BENCH_RTL
 #pragma GCC diagnostic push
@@ -36,13 +42,9 @@
 #pragma GCC diagnostic ignored "-Wsign-conversion"
 #pragma GCC diagnostic ignored "-Wpedantic"
 #pragma GCC diagnostic ignored "-Wunused-parameter"
-#include "Vceilnav_top.h"
+#include "Vceilnav_top_fast.h"
 #include "verilated.h"
 #pragma GCC diagnostic pop
-
-#include "host/driver.hpp"
-#include "host/sim_bus.hpp"
-#include "stream/run_scanner.hpp"
 #endif
 
 namespace {
@@ -130,23 +132,68 @@ void BM_FastPath(benchmark::State& state) {
 }
 BENCHMARK(BM_FastPath)->Unit(benchmark::kMillisecond);
 
-// (2) Cycle-level model: Pipeline::clock, one beat per edge, no gaps,
-// m_axis_runs_tready = 1. One iteration = one frame of beats.
+// A non-owning SimDevice on a CeilnavTop, so the host Driver can configure it
+// through AXI-Lite before the timed loop, as it does the RTL.
+class ModelDeviceRef : public host::SimDevice {
+ public:
+  explicit ModelDeviceRef(stream::CeilnavTop& top) : top_(top) {}
+  void reset() override { top_.reset(); }
+  host::SimOutputs outputs() const override {
+    host::SimOutputs o;
+    o.s_axil = top_.s_axil_out();
+    o.m_axis_runs = top_.m_axis_runs();
+    o.irq = top_.irq();
+    return o;
+  }
+  void clock(const host::SimInputs& in) override {
+    top_.clock(in.s_axis_video, in.s_axil, in.m_axis_runs_tready);
+  }
+
+ private:
+  stream::CeilnavTop& top_;
+};
+
+// Configures a device through AXI-Lite with the host Driver, streams the
+// first frame and checks its readout against the fast path (untimed).
+bool configure_and_check(std::unique_ptr<host::SimDevice> device, const Workload& w) {
+  host::SimBus bus(std::move(device));
+  host::Driver driver(bus);
+  driver.identify();
+  driver.configure(w.cfg);
+  const cv::Mat& f = w.frames.front();
+  bus.queue_frame(f.data, f.cols, f.rows, f.step, host::FrameFeed{});
+  const host::FrameReadout r = driver.read_frame();
+  return r.results.moments == w.results.front().moments &&
+         r.results.histogram == w.results.front().histogram &&
+         r.results.run_stats == w.results.front().run_stats && r.runs == w.runs.front();
+}
+
+// AXI-Lite inputs of the timed loops: idle, bready/rready high.
+constexpr stream::AxiLiteIn kIdleAxi{.bready = true, .rready = true};
+
+// (2) Cycle-level model of the device, stream::CeilnavTop::clock: configured
+// through AXI-Lite, then the same loop as BM_Rtl (one beat per edge, frames
+// back to back, AXI-Lite idle, m_axis_runs_tready = 1). One iteration = one
+// frame of beats.
 void BM_CycleModel(benchmark::State& state) {
   const Workload& w = workload();
-  stream::Pipeline p;
-  p.set_config(w.cfg);
+  stream::CeilnavTop top;
+  if (!configure_and_check(std::make_unique<ModelDeviceRef>(top), w)) {
+    state.SkipWithError("cycle model results differ from the fast path");
+    return;
+  }
   size_t i = 0;
   int64_t cycles = 0;
   for (auto _ : state) {
-    for (const stream::VideoBeat& b : w.beats[i]) p.clock(b, true);
+    for (const stream::VideoBeat& b : w.beats[i]) top.clock(b, kIdleAxi, true);
     cycles += static_cast<int64_t>(w.beats[i].size());
     i = (i + 1) % w.frames.size();
   }
-  // Check (untimed) that the clocked frames gave the fast path's results.
+  // Check (untimed) that the last clocked frame gave the fast path's results.
   const stream::VideoBeat idle{};
-  for (int c = 0; c < stream::Pipeline::kEofToFrameDoneCycles + 1; ++c) p.clock(idle, true);
-  stream::FrameResults got = p.results();
+  for (int c = 0; c < stream::CeilnavTop::kEofToIntrCycles + 1; ++c)
+    top.clock(idle, kIdleAxi, true);
+  const stream::FrameResults& got = top.pipeline().results();
   const stream::FrameResults& want = w.results[(i + w.frames.size() - 1) % w.frames.size()];
   if (!(got.moments == want.moments && got.histogram == want.histogram &&
         got.run_stats == want.run_stats)) {
@@ -157,14 +204,42 @@ void BM_CycleModel(benchmark::State& state) {
 }
 BENCHMARK(BM_CycleModel)->Unit(benchmark::kMillisecond);
 
+// (2b) The pipeline alone (no register file), stream::Pipeline::clock, for
+// the share of the device's cost that the register file takes.
+void BM_CycleModelPipeline(benchmark::State& state) {
+  const Workload& w = workload();
+  stream::Pipeline p;
+  p.set_config(w.cfg);
+  size_t i = 0;
+  int64_t cycles = 0;
+  for (auto _ : state) {
+    for (const stream::VideoBeat& b : w.beats[i]) p.clock(b, true);
+    cycles += static_cast<int64_t>(w.beats[i].size());
+    i = (i + 1) % w.frames.size();
+  }
+  const stream::VideoBeat idle{};
+  for (int c = 0; c < stream::Pipeline::kEofToFrameDoneCycles + 1; ++c) p.clock(idle, true);
+  const stream::FrameResults& got = p.results();
+  const stream::FrameResults& want = w.results[(i + w.frames.size() - 1) % w.frames.size()];
+  if (!(got.moments == want.moments && got.histogram == want.histogram &&
+        got.run_stats == want.run_stats)) {
+    state.SkipWithError("pipeline results differ from the fast path");
+  }
+  state.counters["cycles/s"] =
+      benchmark::Counter(static_cast<double>(cycles), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_CycleModelPipeline)->Unit(benchmark::kMillisecond);
+
 #if CEILNAV_BENCH_RTL
-// The Verilated top, driven as apps/rtl_backend_verilated.cpp does.
+// The Verilated top as testbench/ceilnav_top.cmake builds it for speed
+// (ceilnav_rtl_top_fast: no assertions, no trace support).
+using Vtop = Vceilnav_top_fast;
 class Rtl {
  public:
   Rtl() : ctx_(std::make_unique<VerilatedContext>()) {
     ctx_->randReset(2);
     ctx_->randSeed(1);
-    top_ = std::make_unique<Vceilnav_top>(ctx_.get(), "ceilnav_top");
+    top_ = std::make_unique<Vtop>(ctx_.get(), "ceilnav_top");
     top_->clk_i = 0;
     reset();
   }
@@ -187,23 +262,26 @@ class Rtl {
   }
 
   // One edge with the AXI-Lite and run-stream inputs as set (idle, tready).
+  // Two eval() calls: the new inputs with the rising edge (Verilator settles
+  // the logic that depends on inputs before it runs the edge's flops), then
+  // the falling edge, which no process is sensitive to; it only records
+  // clk_i = 0 so that the next call sees a rising edge.
   void clock(const stream::VideoBeat& b) {
     top_->s_axis_video_tdata_i = b.tdata;
     top_->s_axis_video_tvalid_i = b.tvalid;
     top_->s_axis_video_tuser_i = b.tuser;
     top_->s_axis_video_tlast_i = b.tlast;
-    top_->eval();
     top_->clk_i = 1;
     top_->eval();
     top_->clk_i = 0;
     top_->eval();
   }
 
-  Vceilnav_top& top() { return *top_; }
+  Vtop& top() { return *top_; }
 
  private:
   std::unique_ptr<VerilatedContext> ctx_;
-  std::unique_ptr<Vceilnav_top> top_;
+  std::unique_ptr<Vtop> top_;
 };
 
 // A non-owning SimDevice on the Rtl, so the host Driver can configure it and
@@ -213,7 +291,7 @@ class RtlDeviceRef : public host::SimDevice {
   explicit RtlDeviceRef(Rtl& rtl) : rtl_(rtl) {}
   void reset() override { rtl_.reset(); }
   host::SimOutputs outputs() const override {
-    Vceilnav_top& t = rtl_.top();
+    Vtop& t = rtl_.top();
     host::SimOutputs o;
     o.s_axil.awready = t.s_axil_awready_o;
     o.s_axil.wready = t.s_axil_wready_o;
@@ -232,7 +310,7 @@ class RtlDeviceRef : public host::SimDevice {
     return o;
   }
   void clock(const host::SimInputs& in) override {
-    Vceilnav_top& t = rtl_.top();
+    Vtop& t = rtl_.top();
     t.s_axil_awaddr_i = in.s_axil.awaddr;
     t.s_axil_awvalid_i = in.s_axil.awvalid;
     t.s_axil_wdata_i = in.s_axil.wdata;
@@ -251,7 +329,7 @@ class RtlDeviceRef : public host::SimDevice {
 };
 
 // Leaves every AXI-Lite input idle and m_axis_runs_tready = 1.
-void idle_axi(Vceilnav_top& t) {
+void idle_axi(Vtop& t) {
   t.s_axil_awvalid_i = 0;
   t.s_axil_wvalid_i = 0;
   t.s_axil_bready_i = 1;
@@ -260,25 +338,13 @@ void idle_axi(Vceilnav_top& t) {
   t.m_axis_runs_tready_i = 1;
 }
 
-// (3) Verilated RTL top, untraced: one beat per edge, registers idle.
+// (3) Verilated RTL top: the same loop as BM_CycleModel.
 void BM_Rtl(benchmark::State& state) {
   const Workload& w = workload();
   Rtl rtl;
-  {
-    // Configure through AXI-Lite and check one frame against the fast path
-    // (untimed), so the timed loop runs a configured, working device.
-    host::SimBus bus(std::make_unique<RtlDeviceRef>(rtl));
-    host::Driver driver(bus);
-    driver.identify();
-    driver.configure(w.cfg);
-    const cv::Mat& f = w.frames.front();
-    bus.queue_frame(f.data, f.cols, f.rows, f.step, host::FrameFeed{});
-    const host::FrameReadout r = driver.read_frame();
-    if (!(r.results.moments == w.results.front().moments &&
-          r.results.run_stats == w.results.front().run_stats && r.runs == w.runs.front())) {
-      state.SkipWithError("RTL results differ from the fast path");
-      return;
-    }
+  if (!configure_and_check(std::make_unique<RtlDeviceRef>(rtl), w)) {
+    state.SkipWithError("RTL results differ from the fast path");
+    return;
   }
   idle_axi(rtl.top());
   size_t i = 0;
@@ -327,11 +393,17 @@ BENCHMARK(BM_HostPose)->Unit(benchmark::kMicrosecond);
 class RecordingReporter : public benchmark::ConsoleReporter {
  public:
   explicit RecordingReporter(bool color) : ConsoleReporter(color ? OO_ColorTabular : OO_Tabular) {}
+  // With --benchmark_repetitions the median of the repetitions is kept,
+  // else the one run's value.
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& r : runs) {
       if (r.error_occurred) ++errors_;
-      if (r.run_type == Run::RT_Iteration && !r.error_occurred) {
-        for (const auto& [name, c] : r.counters) values_[r.benchmark_name()][name] = c.value;
+      if (r.error_occurred) continue;
+      const std::string name = r.run_name.function_name;
+      const bool median = r.run_type == Run::RT_Aggregate && r.aggregate_name == "median";
+      if (median || (r.run_type == Run::RT_Iteration && medians_.count(name) == 0)) {
+        for (const auto& [counter, c] : r.counters) values_[name][counter] = c.value;
+        if (median) medians_.insert(name);
       }
     }
     ConsoleReporter::ReportRuns(runs);
@@ -347,6 +419,7 @@ class RecordingReporter : public benchmark::ConsoleReporter {
 
  private:
   std::map<std::string, std::map<std::string, double>> values_;
+  std::set<std::string> medians_;
   int errors_ = 0;
 };
 
@@ -385,6 +458,7 @@ int main(int argc, char** argv) {
   };
   const auto fast = mega(reporter.get("BM_FastPath", "pix/s"));
   const auto model = mega(reporter.get("BM_CycleModel", "cycles/s"));
+  const auto pipeline = mega(reporter.get("BM_CycleModelPipeline", "cycles/s"));
   const auto rtl = mega(reporter.get("BM_Rtl", "cycles/s"));
   const auto golden = mega(reporter.get("BM_Golden", "pix/s"));
   std::optional<double> host_us;
@@ -399,6 +473,7 @@ int main(int argc, char** argv) {
   print_ratio("fast path / golden", fast, golden);
   print_ratio("fast path / cycle model", fast, model);
   print_ratio("cycle model / RTL", model, rtl);
+  print_ratio("cycle model pipeline / RTL", pipeline, rtl);
   print_ratio("fast path / RTL", fast, rtl);
   print_ratio("golden / RTL", golden, rtl);
   std::printf("targets (issue 4):\n");

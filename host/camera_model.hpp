@@ -8,6 +8,7 @@
 // and pixels u = fx xd + cx, v = fy yd + cy (cv::projectPoints).
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -26,6 +27,13 @@ class CameraModel {
   // grid (one Newton step then suffices), elsewhere from the distorted point.
   // Without distortion this is K^-1 (two multiply-adds).
   Eigen::Vector2d normalise(double u_px, double v_px) const;
+
+  // normalise() of every pixel (u_px[i], v_px[i]) into (x[i], y[i]), with the
+  // same results bit for bit, several points at a time in SIMD lanes (about
+  // 2x - 3x faster per point than the single-point call). All four spans have
+  // the same size (else std::invalid_argument).
+  void normalise(std::span<const double> u_px, std::span<const double> v_px, std::span<double> x,
+                 std::span<double> y) const;
 
   // Normalised -> pixel through the distortion model (== cv::projectPoints).
   Eigen::Vector2d distort_to_pixel(const Eigen::Vector2d& xy) const;
@@ -54,6 +62,8 @@ class CameraModel {
   int grid_cols_ = 0, grid_rows_ = 0;
   std::vector<Eigen::Vector2d> grid_;
   Eigen::Vector2d newton(double xd, double yd, double x, double y) const;
+  // Distorted normalised (xd, yd) of a pixel and the Newton start (x, y).
+  void newton_start(double u_px, double v_px, double& xd, double& yd, double& x, double& y) const;
 };
 
 }  // namespace ceilnav::host

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -13,15 +15,26 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
 
-// One centre-line candidate point: a run's intensity-weighted centre.
-struct Point {
-  double x = 0.0, y = 0.0;  // normalised
-  int run = 0;              // index into the input span
-  int row = 0;
-  int comp = 0;         // root of the run's chain
-  bool usable = false;  // passed the width / border / horizon gates
-  double weight = 1.0;  // inverse variance of x (relative), see weight_of_run
+// Centre-line candidate points (runs' intensity-weighted centres), as columns.
+struct Points {
+  std::vector<double> x, y;    // normalised
+  std::vector<double> weight;  // inverse variance of x (relative), see weight_of_run
+  std::vector<int> row;
+  std::vector<int> run;   // index into the input span
+  std::vector<int> comp;  // root of the run's chain
+  size_t size() const { return x.size(); }
+  void resize(size_t m) {
+    x.resize(m);
+    y.resize(m);
+    weight.resize(m);
+    row.resize(m);
+    run.resize(m);
+    comp.resize(m);
+  }
 };
+
+// A subset of Points: 1 = in.
+using Mask = std::vector<uint8_t>;
 
 // Least squares x = a y + b in normalised coordinates (rows are exact, the
 // measured quantity is the run centre along x).
@@ -30,25 +43,25 @@ struct LineFit {
   double a = 0.0, b = 0.0;
 };
 
-template <typename Pred>
-LineFit fit_x_on_y(const std::vector<Point>& pts, Pred use) {
+LineFit fit_x_on_y(const Points& pts, const Mask& use) {
+  const size_t m = pts.size();
   int n = 0;
   double sw = 0.0, sy = 0.0, sx = 0.0;
-  for (const Point& p : pts) {
-    if (!use(p)) continue;
+  for (size_t k = 0; k < m; ++k) {
+    if (use[k] == 0) continue;
     ++n;
-    sw += p.weight;
-    sy += p.weight * p.y;
-    sx += p.weight * p.x;
+    sw += pts.weight[k];
+    sy += pts.weight[k] * pts.y[k];
+    sx += pts.weight[k] * pts.x[k];
   }
   LineFit f;
   if (n < 2 || !(sw > 0.0)) return f;
   const double my = sy / sw, mx = sx / sw;
   double syy = 0.0, sxy = 0.0;
-  for (const Point& p : pts) {
-    if (!use(p)) continue;
-    syy += p.weight * (p.y - my) * (p.y - my);
-    sxy += p.weight * (p.y - my) * (p.x - mx);
+  for (size_t k = 0; k < m; ++k) {
+    if (use[k] == 0) continue;
+    syy += pts.weight[k] * (pts.y[k] - my) * (pts.y[k] - my);
+    sxy += pts.weight[k] * (pts.y[k] - my) * (pts.x[k] - mx);
   }
   if (!(syy > 1e-18 * sw)) return f;  // all points on one row: slope undefined
   f.a = sxy / syy;
@@ -70,10 +83,14 @@ double weight_of_run(const stream::RunRecord& r, double xc, int width) {
   return spread > 0.0 && w > 0.0 ? w * w / spread : 0.0;
 }
 
+// Root of i's tree, halving the path on the way. Every link points from a
+// higher index to a lower one, so a root is its tree's lowest index.
 int find_root(std::vector<int>& parent, int i) {
-  while (parent[static_cast<size_t>(i)] != i) {
-    parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
-    i = parent[static_cast<size_t>(i)];
+  int* const up = parent.data();
+  while (up[i] != i) {
+    const int grand = up[up[i]];
+    if (grand != up[i]) up[i] = grand;
+    i = grand;
   }
   return i;
 }
@@ -83,6 +100,30 @@ struct Candidate {
   int support = 0;
   double dist_to_centre = 0.0;
 };
+
+struct MaskFit {
+  Mask mask;
+  LineFit fit;
+};
+
+// Working storage of estimate_tape_pose, kept per thread so that a call
+// allocates nothing once the buffers have grown to the frame's run count.
+struct Scratch {
+  std::vector<int> order, row, x_start, x_end, parent, label, root, root_k, comp_min_row,
+      comp_max_row, usable_count;
+  std::vector<double> u, v, x, y, w;
+  std::vector<uint8_t> usable;
+  Points pts, left, right;
+  std::vector<std::pair<int, int>> comps;
+  Mask mask_a, mask_b;
+  std::vector<MaskFit> memo;
+  std::vector<Candidate> cands;
+};
+
+Scratch& scratch() {
+  thread_local Scratch s;
+  return s;
+}
 
 }  // namespace
 
@@ -126,46 +167,69 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
   }
   const int width = cfg.image_width, height = cfg.image_height;
 
-  // Runs in (row, x_start) order; the scanner emits them so, but do not rely on it.
-  std::vector<int> order(runs.size());
-  std::iota(order.begin(), order.end(), 0);
-  const bool sorted = std::is_sorted(order.begin(), order.end(), [&](int i, int j) {
+  Scratch& sc = scratch();
+  const size_t n = runs.size();
+
+  // Runs in (row, x_start) order; the scanner emits them so, but do not rely
+  // on it. Their geometry is copied in that order (k) for the scans below;
+  // idx[k] is the run's index i in the input.
+  std::vector<int>& idx = sc.order;
+  idx.resize(n);
+  std::iota(idx.begin(), idx.end(), 0);
+  const auto run_less = [&](int i, int j) {
     const auto& a = runs[static_cast<size_t>(i)];
     const auto& b = runs[static_cast<size_t>(j)];
     return a.row != b.row ? a.row < b.row : a.x_start < b.x_start;
-  });
-  if (!sorted) {
-    std::sort(order.begin(), order.end(), [&](int i, int j) {
-      const auto& a = runs[static_cast<size_t>(i)];
-      const auto& b = runs[static_cast<size_t>(j)];
-      return a.row != b.row ? a.row < b.row : a.x_start < b.x_start;
-    });
+  };
+  if (!std::is_sorted(idx.begin(), idx.end(), run_less)) {
+    std::sort(idx.begin(), idx.end(), run_less);
+  }
+  sc.row.resize(n);
+  sc.x_start.resize(n);
+  sc.x_end.resize(n);
+  int* const row_k = sc.row.data();
+  int* const xs_k = sc.x_start.data();
+  int* const xe_k = sc.x_end.data();
+  const int* const idx_k = idx.data();
+  for (size_t k = 0; k < n; ++k) {
+    const auto& r = runs[static_cast<size_t>(idx_k[k])];
+    row_k[k] = r.row;
+    xs_k[k] = r.x_start;
+    xe_k[k] = r.x_end;
   }
 
   // Connected chains of runs: a run joins a run of the row above when their
-  // pixel spans touch (8-connectivity).
-  const size_t n = runs.size();
-  std::vector<int> parent(n);
+  // pixel spans touch (8-connectivity). The root of a chain is its lowest
+  // run index i.
+  // label_k[k]: a run of run k's chain, set to the chain's root when k was
+  // joined, so that finding the root from it is short.
+  std::vector<int>& parent = sc.parent;
+  parent.resize(n);
   std::iota(parent.begin(), parent.end(), 0);
+  sc.label.resize(n);
+  int* const label_k = sc.label.data();
+  for (size_t k = 0; k < n; ++k) label_k[k] = idx_k[k];
   {
     size_t prev_begin = 0, prev_end = 0, cur_begin = 0;
     while (cur_begin < n) {
-      const int row = runs[static_cast<size_t>(order[cur_begin])].row;
+      const int row = row_k[cur_begin];
       size_t cur_end = cur_begin;
-      while (cur_end < n && runs[static_cast<size_t>(order[cur_end])].row == row) ++cur_end;
-      const bool adjacent =
-          prev_end > prev_begin && runs[static_cast<size_t>(order[prev_begin])].row + 1 == row;
+      while (cur_end < n && row_k[cur_end] == row) ++cur_end;
+      const bool adjacent = prev_end > prev_begin && row_k[prev_begin] + 1 == row;
       if (adjacent) {
         size_t p = prev_begin;
         for (size_t k = cur_begin; k < cur_end; ++k) {
-          const auto& r = runs[static_cast<size_t>(order[k])];
-          while (p < prev_end && runs[static_cast<size_t>(order[p])].x_end + 1 < r.x_start) ++p;
+          while (p < prev_end && xe_k[p] + 1 < xs_k[k]) ++p;
+          int ra = idx_k[k];  // root of run k (a fresh run is its own), tracked
           for (size_t q = p; q < prev_end; ++q) {
-            const auto& s = runs[static_cast<size_t>(order[q])];
-            if (s.x_start > r.x_end + 1) break;
-            const int ra = find_root(parent, order[k]), rb = find_root(parent, order[q]);
-            if (ra != rb) parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+            if (xs_k[q] > xe_k[k] + 1) break;
+            const int rb = find_root(parent, label_k[q]);
+            if (ra != rb) {
+              parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+              ra = std::min(ra, rb);
+            }
           }
+          label_k[k] = ra;
         }
       }
       prev_begin = cur_begin;
@@ -174,97 +238,178 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     }
   }
 
-  // Component statistics: size, row extent, and rows holding more than one run.
-  std::vector<int> comp_size(n, 0), comp_min_row(n, 1 << 30), comp_max_row(n, -1);
+  // Chain of every run (by i and by k), and per chain its row extent.
+  sc.root.resize(n);
+  sc.root_k.resize(n);
+  sc.comp_min_row.assign(n, 1 << 30);
+  sc.comp_max_row.assign(n, -1);
+  int* const root = sc.root.data();
+  int* const root_k = sc.root_k.data();
+  int* const comp_min_row = sc.comp_min_row.data();
+  int* const comp_max_row = sc.comp_max_row.data();
+  // Links point to lower indices: one pass upwards finds every root.
   for (size_t i = 0; i < n; ++i) {
-    const int root = find_root(parent, static_cast<int>(i));
-    const size_t r = static_cast<size_t>(root);
-    ++comp_size[r];
-    comp_min_row[r] = std::min(comp_min_row[r], static_cast<int>(runs[i].row));
-    comp_max_row[r] = std::max(comp_max_row[r], static_cast<int>(runs[i].row));
+    const int up = parent[i];
+    root[i] = up == static_cast<int>(i) ? up : root[static_cast<size_t>(up)];
   }
+  for (size_t k = 0; k < n; ++k) {
+    const int rt = root[static_cast<size_t>(idx_k[k])];
+    root_k[k] = rt;
+    const size_t r = static_cast<size_t>(rt);
+    comp_min_row[r] = std::min(comp_min_row[r], row_k[k]);
+    comp_max_row[r] = std::max(comp_max_row[r], row_k[k]);
+  }
+
+  // Run centres, undistorted all at once.
+  sc.u.resize(n);
+  sc.v.resize(n);
+  sc.x.resize(n);
+  sc.y.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const auto& r = runs[i];
+    sc.u[i] = r.sum_w > 0 ? static_cast<double>(r.sum_xw) / static_cast<double>(r.sum_w)
+                          : 0.5 * (r.x_start + r.x_end);
+    sc.v[i] = r.row;
+  }
+  cam.normalise(sc.u, sc.v, sc.x, sc.y);
 
   // Centre-line points. Gates: runs touching the left/right image border lose
   // their margin (biased centre); the end rows of a chain inside the image are
   // partly covered by the tape end; rows where a chain splits into several runs;
   // runs wider than the tape can be (T-branch, merged tapes); rows at or below
   // the horizon cannot hold a ceiling point.
-  std::vector<Point> pts(n);
+  sc.usable.assign(n, 0);
+  sc.w.resize(n);
+  uint8_t* const usable = sc.usable.data();
+  double* const weight_i = sc.w.data();
+  const double* const xc_i = sc.u.data();
+  const double* const x_i = sc.x.data();
+  const double* const y_i = sc.y.data();
+  const bool weighted = opt.weighted_fit;
+  const double max_width_factor = opt.max_width_factor, width_slack_px = opt.width_slack_px;
+  const double width_scale = cam.fx() * cfg.tape_width_m;
   for (size_t k = 0; k < n; ++k) {
-    const int i = order[k];
-    const auto& r = runs[static_cast<size_t>(i)];
-    Point& p = pts[static_cast<size_t>(i)];
-    p.run = i;
-    p.row = r.row;
-    const double xc = r.sum_w > 0 ? static_cast<double>(r.sum_xw) / static_cast<double>(r.sum_w)
-                                  : 0.5 * (r.x_start + r.x_end);
-    const Eigen::Vector2d xy = cam.normalise(xc, r.row);
-    p.x = xy.x();
-    p.y = xy.y();
-    p.comp = find_root(parent, i);
-    p.weight = opt.weighted_fit ? weight_of_run(r, xc, width) : 1.0;
-    const size_t root = static_cast<size_t>(find_root(parent, i));
-    bool ok = r.x_start > 0 && r.x_end + 1 < width && r.x_end >= r.x_start;
-    if (r.row == comp_min_row[root] && r.row > 0) ok = false;
-    if (r.row == comp_max_row[root] && r.row + 1 < height) ok = false;
-    const bool same_row_before = k > 0 && runs[static_cast<size_t>(order[k - 1])].row == r.row &&
-                                 static_cast<size_t>(find_root(parent, order[k - 1])) == root;
-    const bool same_row_after = k + 1 < n && runs[static_cast<size_t>(order[k + 1])].row == r.row &&
-                                static_cast<size_t>(find_root(parent, order[k + 1])) == root;
+    const size_t i = static_cast<size_t>(idx_k[k]);
+    const int row = row_k[k], xs = xs_k[k], xe = xe_k[k];
+    const double px = x_i[i], py = y_i[i];
+    const double weight = weighted ? weight_of_run(runs[i], xc_i[i], width) : 1.0;
+    const int rt = root_k[k];
+    const size_t rts = static_cast<size_t>(rt);
+    bool ok = xs > 0 && xe + 1 < width && xe >= xs;
+    if (row == comp_min_row[rts] && row > 0) ok = false;
+    if (row == comp_max_row[rts] && row + 1 < height) ok = false;
+    const bool same_row_before = k > 0 && row_k[k - 1] == row && root_k[k - 1] == rt;
+    const bool same_row_after = k + 1 < n && row_k[k + 1] == row && root_k[k + 1] == rt;
     if (same_row_before || same_row_after) ok = false;
     // Horizontal width of the tape image at normalised row y: W (sin p - y cos p) / (c cos psi).
-    const double depth = sp - p.y * cp;
+    const double depth = sp - py * cp;
     if (!(depth > 1e-9)) ok = false;
-    if (ok && opt.max_width_factor > 0.0) {
-      const double expected_px = cam.fx() * cfg.tape_width_m * depth / c;
-      const double run_px = r.x_end - r.x_start + 1.0;
-      if (run_px > opt.max_width_factor * expected_px + opt.width_slack_px) ok = false;
+    if (ok && max_width_factor > 0.0) {
+      const double expected_px = width_scale * depth / c;
+      const double run_px = xe - xs + 1.0;
+      if (run_px > max_width_factor * expected_px + width_slack_px) ok = false;
     }
-    p.usable = ok && std::isfinite(p.x) && std::isfinite(p.y) && p.weight > 0.0;
+    if (ok && std::isfinite(px) && std::isfinite(py) && weight > 0.0) {
+      usable[i] = 1;
+      weight_i[i] = weight;
+    }
   }
+
+  // The usable points, in run index order (the order every sum below runs in).
+  Points& pts = sc.pts;
+  pts.resize(static_cast<size_t>(std::count(sc.usable.begin(), sc.usable.end(), uint8_t{1})));
+  {
+    size_t k = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (usable[i] == 0) continue;
+      pts.x[k] = x_i[i];
+      pts.y[k] = y_i[i];
+      pts.weight[k] = weight_i[i];
+      pts.row[k] = runs[i].row;
+      pts.run[k] = static_cast<int>(i);
+      pts.comp[k] = root[i];
+      ++k;
+    }
+  }
+  const size_t m = pts.size();
+  const int usable_total = static_cast<int>(m);
 
   // Candidate lines: one per large chain, each grown to every usable point
   // within the residual gate (so that a tape broken by a gap counts once).
-  const double gate = opt.max_residual_px / cam.fx();
-  std::vector<std::pair<int, int>> comps;  // (usable points, root)
+  std::vector<std::pair<int, int>>& comps = sc.comps;  // (usable points, root)
+  comps.clear();
   {
-    std::vector<int> usable_count(n, 0);
-    for (size_t i = 0; i < n; ++i) {
-      if (pts[i].usable)
-        ++usable_count[static_cast<size_t>(find_root(parent, static_cast<int>(i)))];
-    }
+    std::vector<int>& usable_count = sc.usable_count;
+    usable_count.assign(n, 0);
+    for (size_t k = 0; k < m; ++k) ++usable_count[static_cast<size_t>(pts.comp[k])];
     for (size_t i = 0; i < n; ++i) {
       if (usable_count[i] >= 2) comps.emplace_back(usable_count[i], static_cast<int>(i));
     }
     std::sort(comps.begin(), comps.end(), std::greater<>());
     if (comps.size() > 4) comps.resize(4);
   }
-  const int usable_total = static_cast<int>(
-      std::count_if(pts.begin(), pts.end(), [](const Point& p) { return p.usable; }));
   if (usable_total < opt.min_points || comps.empty()) {
     out.status = Status::too_few_points;
     out.points_used = usable_total;
     return out;
   }
 
-  const auto inlier = [gate](const LineFit& f, const Point& p) {
-    return p.usable && std::abs(p.x - (f.a * p.y + f.b)) <= gate;
+  // Inlier sets are masks over pts. A fit depends only on its set (the sums
+  // run in index order), so a refinement whose set did not change has
+  // converged, and a set fitted before (another chain of the same tape) is
+  // not fitted again: the lines are the ones a plain loop would give.
+  const double gate = opt.max_residual_px / cam.fx();
+  Mask& cur = sc.mask_a;
+  Mask& next = sc.mask_b;
+  const auto inlier_mask = [&](const LineFit& f, Mask& mask) {
+    mask.resize(m);
+    uint8_t* const in = mask.data();
+    const double* const px = pts.x.data();
+    const double* const py = pts.y.data();
+    for (size_t k = 0; k < m; ++k) {
+      in[k] = std::abs(px[k] - (f.a * py[k] + f.b)) <= gate ? 1 : 0;
+    }
   };
-  std::vector<Candidate> cands;
-  for (const auto& [count, root] : comps) {
-    LineFit f = fit_x_on_y(pts, [&](const Point& p) { return p.usable && p.comp == root; });
+  std::vector<MaskFit>& memo = sc.memo;
+  size_t memo_used = 0;
+  const auto fit_set = [&](const Mask& mask) {
+    for (size_t e = 0; e < memo_used; ++e) {
+      if (memo[e].mask == mask) return memo[e].fit;
+    }
+    const LineFit f = fit_x_on_y(pts, mask);
+    if (memo_used == memo.size()) memo.emplace_back();
+    memo[memo_used].mask = mask;
+    memo[memo_used].fit = f;
+    ++memo_used;
+    return f;
+  };
+  std::vector<Candidate>& cands = sc.cands;
+  cands.clear();
+  for (const auto& [count, comp_root] : comps) {
+    cur.resize(m);
+    uint8_t* const in = cur.data();
+    const int* const pc = pts.comp.data();
+    for (size_t k = 0; k < m; ++k) in[k] = pc[k] == comp_root ? 1 : 0;
+    LineFit f = fit_set(cur);
     if (!f.ok) continue;
     // Trim the chain's own outliers (noise stuck to the tape) before growing.
+    // `cur` is the set f was fitted on; `next` is inlier(f).
+    bool next_is_inliers = false;
     for (int it = 0; it < opt.refine_iterations && f.ok; ++it) {
-      LineFit g = fit_x_on_y(pts, [&](const Point& p) { return inlier(f, p); });
+      inlier_mask(f, next);
+      next_is_inliers = true;
+      if (next == cur) break;  // the refit would give f again
+      const LineFit g = fit_set(next);
       if (!g.ok) break;
       f = g;
+      std::swap(cur, next);
+      next_is_inliers = false;
     }
     if (!f.ok) continue;
+    if (!next_is_inliers) inlier_mask(f, next);
     Candidate cand;
     cand.line = f;
-    cand.support = static_cast<int>(
-        std::count_if(pts.begin(), pts.end(), [&](const Point& p) { return inlier(f, p); }));
+    cand.support = static_cast<int>(std::count(next.begin(), next.end(), uint8_t{1}));
     // Distance of the principal point (0, 0) from the line x = a y + b.
     cand.dist_to_centre = std::abs(f.b) / std::sqrt(1.0 + f.a * f.a);
     cands.push_back(cand);
@@ -286,12 +431,14 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
   int used = 0;
   int row_min = 1 << 30, row_max = -1;
   double ss = 0.0;
-  for (const Point& p : pts) {
-    if (!inlier(line, p)) continue;
+  Mask& final_inliers = sc.mask_a;
+  inlier_mask(line, final_inliers);
+  for (size_t k = 0; k < m; ++k) {
+    if (final_inliers[k] == 0) continue;
     ++used;
-    row_min = std::min(row_min, p.row);
-    row_max = std::max(row_max, p.row);
-    const double r = (p.x - (line.a * p.y + line.b)) * cam.fx();
+    row_min = std::min(row_min, pts.row[k]);
+    row_max = std::max(row_max, pts.row[k]);
+    const double r = (pts.x[k] - (line.a * pts.y[k] + line.b)) * cam.fx();
     ss += r * r;
   }
   out.points_used = used;
@@ -330,27 +477,46 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
   // +X direction in camera axes is (sin psi, sin p cos psi, cos p cos psi) so the
   // homogeneous intersection V (scaled to V_y > 0) gives p = atan2(V_y, V_z).
   if (opt.estimate_pitch) {
-    std::vector<Point> left, right;
-    left.reserve(static_cast<size_t>(used));
-    right.reserve(static_cast<size_t>(used));
     // The estimate is biased far beyond its noise (docs), so 48 rows suffice.
-    const int stride = std::max(1, used / 48);
-    int seen = 0;
-    for (const Point& p : pts) {
-      if (!inlier(line, p) || (seen++ % stride) != 0) continue;
-      const auto& r = runs[static_cast<size_t>(p.run)];
-      Point l = p, rr = p;
-      l.weight = rr.weight = 1.0;  // edge positions: quantised to pixels, equal noise
-      const Eigen::Vector2d a = cam.normalise(r.x_start - 0.5, r.row);
-      const Eigen::Vector2d b = cam.normalise(r.x_end + 0.5, r.row);
-      l.x = a.x();
-      l.y = a.y();
-      rr.x = b.x();
-      rr.y = b.y();
-      left.push_back(l);
-      right.push_back(rr);
+    // Edge positions are quantised to pixels: equal noise, unit weights.
+    const size_t stride = static_cast<size_t>(std::max(1, used / 48));
+    size_t edges = 0;  // sampled inliers
+    {
+      size_t phase = 0;  // inliers seen, modulo stride
+      for (size_t k = 0; k < m; ++k) {
+        if (final_inliers[k] == 0) continue;
+        if (phase == 0) ++edges;
+        if (++phase == stride) phase = 0;
+      }
     }
-    const auto all = [](const Point&) { return true; };
+    // Left edges in u/v [0, edges), right edges in [edges, 2 edges).
+    sc.u.resize(2 * edges);
+    sc.v.resize(2 * edges);
+    {
+      size_t e = 0, phase = 0;
+      for (size_t k = 0; k < m; ++k) {
+        if (final_inliers[k] == 0) continue;
+        const bool take = phase == 0;
+        if (++phase == stride) phase = 0;
+        if (!take) continue;
+        const auto& r = runs[static_cast<size_t>(pts.run[k])];
+        sc.u[e] = r.x_start - 0.5;
+        sc.u[edges + e] = r.x_end + 0.5;
+        sc.v[e] = sc.v[edges + e] = r.row;
+        ++e;
+      }
+    }
+    Points& left = sc.left;
+    Points& right = sc.right;
+    left.resize(edges);
+    right.resize(edges);
+    const std::span<const double> u_all(sc.u), v_all(sc.v);
+    cam.normalise(u_all.first(edges), v_all.first(edges), left.x, left.y);
+    cam.normalise(u_all.last(edges), v_all.last(edges), right.x, right.y);
+    std::fill(left.weight.begin(), left.weight.end(), 1.0);
+    std::fill(right.weight.begin(), right.weight.end(), 1.0);
+    Mask& all = sc.mask_b;
+    all.assign(edges, 1);
     const LineFit fl = fit_x_on_y(left, all), fr = fit_x_on_y(right, all);
     if (fl.ok && fr.ok) {
       Eigen::Vector3d v =

@@ -94,8 +94,6 @@ module ceilnav_top (
   logic                 rd_hist_q;  // the response is the histogram port's data
   localparam int unsigned RdWords = 1 << (AddrBits - 2);
   logic [RdWords-1:0]   rd_sel_q;   // one-hot word of rd_addr_q (none if misaligned)
-  logic [31:0]          rd_word[RdWords];
-  logic [RdWords-1:0]   rd_word_ok;
 
   // ---------------------------------------------------------------------------
   // Datapath
@@ -184,162 +182,198 @@ module ceilnav_top (
   assign head_w2 = pipe_tdata[95:64];   // sum_xw
   assign head_w3 = {16'd0, pipe_tdata[111:96]};  // x_end
 
-  // Readable words, by word address addr[AddrBits-1:2]; rd_word_ok marks the
-  // registers. The read multiplexer is an AND-OR over a one-hot word select
-  // registered with the AR handshake (rd_sel_q): on iCE40 LUT4s that costs
-  // about 2/3 of a binary mux tree over ~50 wide words. A word that is no
-  // register, or a misaligned address, selects nothing: 0 with SLVERR.
-  always_comb begin
-    for (int unsigned w = 0; w < RdWords; w++) begin
-      rd_word[w] = 32'd0;
-    end
-    rd_word_ok = '0;
-    rd_word[widx(CEILNAV_ID_OFFSET)] = CEILNAV_ID_RESVAL;
-    rd_word_ok[widx(CEILNAV_ID_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_VERSION_OFFSET)] = CEILNAV_VERSION_RESVAL;
-    rd_word_ok[widx(CEILNAV_VERSION_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_CONTROL_OFFSET)] =
-        put(32'(enable_q), CEILNAV_CONTROL_ENABLE_LSB, CEILNAV_CONTROL_ENABLE_WIDTH) |
-        put(32'(run_sink_q), CEILNAV_CONTROL_RUN_SINK_LSB, CEILNAV_CONTROL_RUN_SINK_WIDTH);
-    rd_word_ok[widx(CEILNAV_CONTROL_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_STATUS_OFFSET)] =
-        put(32'(in_frame_q), CEILNAV_STATUS_IN_FRAME_LSB, CEILNAV_STATUS_IN_FRAME_WIDTH) |
-        put(32'(res_valid), CEILNAV_STATUS_RESULTS_VALID_LSB, CEILNAV_STATUS_RESULTS_VALID_WIDTH) |
-        put(32'(pipe_tvalid), CEILNAV_STATUS_RUN_AVAIL_LSB, CEILNAV_STATUS_RUN_AVAIL_WIDTH) |
-        put(32'(gate_open_q), CEILNAV_STATUS_GATE_OPEN_LSB, CEILNAV_STATUS_GATE_OPEN_WIDTH) |
-        put(32'(lut_pending_q), CEILNAV_STATUS_LUT_PENDING_LSB, CEILNAV_STATUS_LUT_PENDING_WIDTH);
-    rd_word_ok[widx(CEILNAV_STATUS_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_INTR_STATE_OFFSET)] = 32'(intr_state_q);
-    rd_word_ok[widx(CEILNAV_INTR_STATE_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_INTR_ENABLE_OFFSET)] = 32'(intr_enable_q);
-    rd_word_ok[widx(CEILNAV_INTR_ENABLE_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_INTR_TEST_OFFSET)] = 32'd0;
-    rd_word_ok[widx(CEILNAV_INTR_TEST_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_WIDTH_OFFSET)] =
-        put(32'(width_q), CEILNAV_WIDTH_VALUE_LSB, CEILNAV_WIDTH_VALUE_WIDTH);
-    rd_word_ok[widx(CEILNAV_WIDTH_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_HEIGHT_OFFSET)] =
-        put(32'(height_q), CEILNAV_HEIGHT_VALUE_LSB, CEILNAV_HEIGHT_VALUE_WIDTH);
-    rd_word_ok[widx(CEILNAV_HEIGHT_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_BACKGROUND_LEVEL_OFFSET)] =
-        put(32'(background_q), CEILNAV_BACKGROUND_LEVEL_VALUE_LSB,
-            CEILNAV_BACKGROUND_LEVEL_VALUE_WIDTH);
-    rd_word_ok[widx(CEILNAV_BACKGROUND_LEVEL_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_MIN_RUN_LENGTH_OFFSET)] =
-        put(32'(min_run_q), CEILNAV_MIN_RUN_LENGTH_VALUE_LSB, CEILNAV_MIN_RUN_LENGTH_VALUE_WIDTH);
-    rd_word_ok[widx(CEILNAV_MIN_RUN_LENGTH_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_MAX_RUNS_PER_ROW_OFFSET)] =
-        put(32'(max_runs_q), CEILNAV_MAX_RUNS_PER_ROW_VALUE_LSB,
-            CEILNAV_MAX_RUNS_PER_ROW_VALUE_WIDTH);
-    rd_word_ok[widx(CEILNAV_MAX_RUNS_PER_ROW_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_HIST_SOURCE_OFFSET)] =
-        put(32'(hist_src_q), CEILNAV_HIST_SOURCE_REMAP_LSB, CEILNAV_HIST_SOURCE_REMAP_WIDTH);
-    rd_word_ok[widx(CEILNAV_HIST_SOURCE_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_LUT_INDEX_OFFSET)] =
-        put(32'(lut_index_q), CEILNAV_LUT_INDEX_VALUE_LSB, CEILNAV_LUT_INDEX_VALUE_WIDTH);
-    rd_word_ok[widx(CEILNAV_LUT_INDEX_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_LUT_DATA_OFFSET)] = 32'd0;
-    rd_word_ok[widx(CEILNAV_LUT_DATA_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_HIST_INDEX_OFFSET)] =
-        put(32'(hist_index_q), CEILNAV_HIST_INDEX_VALUE_LSB, CEILNAV_HIST_INDEX_VALUE_WIDTH);
-    rd_word_ok[widx(CEILNAV_HIST_INDEX_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_HIST_DATA_OFFSET)] = 32'd0;  // from the histogram port, one edge later
-    rd_word_ok[widx(CEILNAV_HIST_DATA_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUN_FIFO_LEVEL_OFFSET)] =
-        put(32'(fifo_occupancy) + 32'(pipe_tvalid), CEILNAV_RUN_FIFO_LEVEL_VALUE_LSB,
-            CEILNAV_RUN_FIFO_LEVEL_VALUE_WIDTH);
-    rd_word_ok[widx(CEILNAV_RUN_FIFO_LEVEL_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUN_FIFO_DEPTH_OFFSET)] =
-        put(32'(RunFifoDepth), CEILNAV_RUN_FIFO_DEPTH_VALUE_LSB,
-            CEILNAV_RUN_FIFO_DEPTH_VALUE_WIDTH);
-    rd_word_ok[widx(CEILNAV_RUN_FIFO_DEPTH_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUN_WORD0_OFFSET)] =
-        {32{pipe_tvalid}} & (put(32'd1, CEILNAV_RUN_WORD0_VALID_LSB,
-                                 CEILNAV_RUN_WORD0_VALID_WIDTH) |
-        put(32'(pipe_tlast), CEILNAV_RUN_WORD0_LAST_LSB, CEILNAV_RUN_WORD0_LAST_WIDTH) |
-        put({16'd0, head_w0[15:0]}, CEILNAV_RUN_WORD0_ROW_LSB, CEILNAV_RUN_WORD0_ROW_WIDTH));
-    rd_word_ok[widx(CEILNAV_RUN_WORD0_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUN_WORD1_OFFSET)] =
-        {32{pipe_tvalid}} & (put({16'd0, head_w0[31:16]}, CEILNAV_RUN_WORD1_X_START_LSB,
-                                 CEILNAV_RUN_WORD1_X_START_WIDTH) |
-        put(head_w3, CEILNAV_RUN_WORD1_X_END_LSB, CEILNAV_RUN_WORD1_X_END_WIDTH));
-    rd_word_ok[widx(CEILNAV_RUN_WORD1_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUN_WORD2_OFFSET)] =
-        {32{pipe_tvalid}} & (put(head_w1, CEILNAV_RUN_WORD2_SUM_W_LSB,
-                                 CEILNAV_RUN_WORD2_SUM_W_WIDTH));
-    rd_word_ok[widx(CEILNAV_RUN_WORD2_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUN_WORD3_OFFSET)] =
-        {32{pipe_tvalid}} & (put(head_w2, CEILNAV_RUN_WORD3_SUM_XW_LSB,
-                                 CEILNAV_RUN_WORD3_SUM_XW_WIDTH));
-    rd_word_ok[widx(CEILNAV_RUN_WORD3_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RES_FRAME_INDEX_OFFSET)] = res_frame_index;
-    rd_word_ok[widx(CEILNAV_RES_FRAME_INDEX_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_FRAME_COUNT_OFFSET)] = frame_count_q;
-    rd_word_ok[widx(CEILNAV_FRAME_COUNT_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_CYCLES_PER_FRAME_OFFSET)] = res_cycles;
-    rd_word_ok[widx(CEILNAV_CYCLES_PER_FRAME_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_EOF_TO_IRQ_CYCLES_OFFSET)] = eof_to_irq_q;
-    rd_word_ok[widx(CEILNAV_EOF_TO_IRQ_CYCLES_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUNS_EMITTED_OFFSET)] = res_emitted;
-    rd_word_ok[widx(CEILNAV_RUNS_EMITTED_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUNS_DROPPED_ROW_LIMIT_OFFSET)] = res_row_limit;
-    rd_word_ok[widx(CEILNAV_RUNS_DROPPED_ROW_LIMIT_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUNS_DROPPED_OVERFLOW_OFFSET)] = res_overflow;
-    rd_word_ok[widx(CEILNAV_RUNS_DROPPED_OVERFLOW_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUN_FIFO_HIGH_WATER_OFFSET)] = res_high_water;
-    rd_word_ok[widx(CEILNAV_RUN_FIFO_HIGH_WATER_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RES_EARLY_EOL_OFFSET)] = res_errors[0*32 +: 32];
-    rd_word_ok[widx(CEILNAV_RES_EARLY_EOL_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RES_LATE_EOL_OFFSET)] = res_errors[1*32 +: 32];
-    rd_word_ok[widx(CEILNAV_RES_LATE_EOL_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RES_EARLY_SOF_OFFSET)] = res_errors[2*32 +: 32];
-    rd_word_ok[widx(CEILNAV_RES_EARLY_SOF_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RES_MISSING_SOF_OFFSET)] = res_errors[3*32 +: 32];
-    rd_word_ok[widx(CEILNAV_RES_MISSING_SOF_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RES_FRAMES_OK_OFFSET)] = res_errors[4*32 +: 32];
-    rd_word_ok[widx(CEILNAV_RES_FRAMES_OK_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RES_FRAMES_ABORTED_OFFSET)] = res_errors[5*32 +: 32];
-    rd_word_ok[widx(CEILNAV_RES_FRAMES_ABORTED_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_CNT_EARLY_EOL_OFFSET)] = errors[0*32 +: 32];
-    rd_word_ok[widx(CEILNAV_CNT_EARLY_EOL_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_CNT_LATE_EOL_OFFSET)] = errors[1*32 +: 32];
-    rd_word_ok[widx(CEILNAV_CNT_LATE_EOL_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_CNT_EARLY_SOF_OFFSET)] = errors[2*32 +: 32];
-    rd_word_ok[widx(CEILNAV_CNT_EARLY_SOF_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_CNT_MISSING_SOF_OFFSET)] = errors[3*32 +: 32];
-    rd_word_ok[widx(CEILNAV_CNT_MISSING_SOF_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_CNT_FRAMES_OK_OFFSET)] = errors[4*32 +: 32];
-    rd_word_ok[widx(CEILNAV_CNT_FRAMES_OK_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_CNT_FRAMES_ABORTED_OFFSET)] = errors[5*32 +: 32];
-    rd_word_ok[widx(CEILNAV_CNT_FRAMES_ABORTED_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_RUN_TRAILERS_LOST_OFFSET)] = trailers_lost;
-    rd_word_ok[widx(CEILNAV_RUN_TRAILERS_LOST_OFFSET)] = 1'b1;
-    rd_word[widx(CEILNAV_FRAMES_OVERRUN_OFFSET)] = frames_overrun;
-    rd_word_ok[widx(CEILNAV_FRAMES_OVERRUN_OFFSET)] = 1'b1;
-    // The moment arrays: MOM_*[i] at OFFSET + i * STRIDE.
-    for (int unsigned i = 0; i < CEILNAV_MOM_GREY_LO_COUNT; i++) begin
-      rd_word[widx(elem(CEILNAV_MOM_GREY_LO_OFFSET, i, CEILNAV_MOM_GREY_LO_STRIDE))] =
-          res_grey[64*i +: 32];
-      rd_word[widx(elem(CEILNAV_MOM_GREY_HI_OFFSET, i, CEILNAV_MOM_GREY_HI_STRIDE))] =
-          res_grey[64*i+32 +: 32];
-      rd_word[widx(elem(CEILNAV_MOM_MASK_LO_OFFSET, i, CEILNAV_MOM_MASK_LO_STRIDE))] =
-          res_mask[64*i +: 32];
-      rd_word[widx(elem(CEILNAV_MOM_MASK_HI_OFFSET, i, CEILNAV_MOM_MASK_HI_STRIDE))] =
-          res_mask[64*i+32 +: 32];
-      rd_word_ok[widx(elem(CEILNAV_MOM_GREY_LO_OFFSET, i, CEILNAV_MOM_GREY_LO_STRIDE))] = 1'b1;
-      rd_word_ok[widx(elem(CEILNAV_MOM_GREY_HI_OFFSET, i, CEILNAV_MOM_GREY_HI_STRIDE))] = 1'b1;
-      rd_word_ok[widx(elem(CEILNAV_MOM_MASK_LO_OFFSET, i, CEILNAV_MOM_MASK_LO_STRIDE))] = 1'b1;
-      rd_word_ok[widx(elem(CEILNAV_MOM_MASK_HI_OFFSET, i, CEILNAV_MOM_MASK_HI_STRIDE))] = 1'b1;
-    end
+  // The read multiplexer: an AND-OR over a one-hot word select registered
+  // with the AR handshake (rd_sel_q, none for a misaligned address), on iCE40
+  // LUT4s about 2/3 of a binary mux tree over ~50 wide words. A word that is
+  // no register selects nothing: 0 with SLVERR. Evaluated only on the sample
+  // edge (the gate is free in hardware, rd_data_q loads only then, and keeps
+  // the Verilated model from forming every word on every cycle).
+  localparam int unsigned MomWords = CEILNAV_MOM_GREY_LO_COUNT;
+  logic [MomWords-1:0] sel_grey_lo, sel_grey_hi, sel_mask_lo, sel_mask_hi;
+  for (genvar i = 0; i < MomWords; i++) begin : g_mom_sel
+    assign sel_grey_lo[i] =
+        rd_sel_q[widx(elem(CEILNAV_MOM_GREY_LO_OFFSET, i, CEILNAV_MOM_GREY_LO_STRIDE))];
+    assign sel_grey_hi[i] =
+        rd_sel_q[widx(elem(CEILNAV_MOM_GREY_HI_OFFSET, i, CEILNAV_MOM_GREY_HI_STRIDE))];
+    assign sel_mask_lo[i] =
+        rd_sel_q[widx(elem(CEILNAV_MOM_MASK_LO_OFFSET, i, CEILNAV_MOM_MASK_LO_STRIDE))];
+    assign sel_mask_hi[i] =
+        rd_sel_q[widx(elem(CEILNAV_MOM_MASK_HI_OFFSET, i, CEILNAV_MOM_MASK_HI_STRIDE))];
   end
+
+  function automatic logic [31:0] pick(logic sel, logic [31:0] v);
+    pick = {32{sel}} & v;
+  endfunction
 
   always_comb begin
     rd_value = 32'd0;
-    for (int unsigned w = 0; w < RdWords; w++) begin
-      rd_value = rd_value | (rd_word[w] & {32{rd_sel_q[w] & rd_word_ok[w]}});
+    rd_ok    = 1'b0;
+    if (rd_sample) begin
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_ID_OFFSET)],
+          CEILNAV_ID_RESVAL);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_ID_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_VERSION_OFFSET)],
+          CEILNAV_VERSION_RESVAL);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_VERSION_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CONTROL_OFFSET)],
+          put(32'(enable_q), CEILNAV_CONTROL_ENABLE_LSB, CEILNAV_CONTROL_ENABLE_WIDTH) |
+          put(32'(run_sink_q), CEILNAV_CONTROL_RUN_SINK_LSB, CEILNAV_CONTROL_RUN_SINK_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CONTROL_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_STATUS_OFFSET)],
+          put(32'(in_frame_q), CEILNAV_STATUS_IN_FRAME_LSB, CEILNAV_STATUS_IN_FRAME_WIDTH) |
+          put(32'(res_valid), CEILNAV_STATUS_RESULTS_VALID_LSB,
+              CEILNAV_STATUS_RESULTS_VALID_WIDTH) |
+          put(32'(pipe_tvalid), CEILNAV_STATUS_RUN_AVAIL_LSB, CEILNAV_STATUS_RUN_AVAIL_WIDTH) |
+          put(32'(gate_open_q), CEILNAV_STATUS_GATE_OPEN_LSB, CEILNAV_STATUS_GATE_OPEN_WIDTH) |
+          put(32'(lut_pending_q), CEILNAV_STATUS_LUT_PENDING_LSB,
+              CEILNAV_STATUS_LUT_PENDING_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_STATUS_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_INTR_STATE_OFFSET)],
+          32'(intr_state_q));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_INTR_STATE_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_INTR_ENABLE_OFFSET)],
+          32'(intr_enable_q));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_INTR_ENABLE_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_INTR_TEST_OFFSET)],
+          32'd0);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_INTR_TEST_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_WIDTH_OFFSET)],
+          put(32'(width_q), CEILNAV_WIDTH_VALUE_LSB, CEILNAV_WIDTH_VALUE_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_WIDTH_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_HEIGHT_OFFSET)],
+          put(32'(height_q), CEILNAV_HEIGHT_VALUE_LSB, CEILNAV_HEIGHT_VALUE_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_HEIGHT_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_BACKGROUND_LEVEL_OFFSET)],
+          put(32'(background_q), CEILNAV_BACKGROUND_LEVEL_VALUE_LSB,
+              CEILNAV_BACKGROUND_LEVEL_VALUE_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_BACKGROUND_LEVEL_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_MIN_RUN_LENGTH_OFFSET)],
+          put(32'(min_run_q), CEILNAV_MIN_RUN_LENGTH_VALUE_LSB,
+              CEILNAV_MIN_RUN_LENGTH_VALUE_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_MIN_RUN_LENGTH_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_MAX_RUNS_PER_ROW_OFFSET)],
+          put(32'(max_runs_q), CEILNAV_MAX_RUNS_PER_ROW_VALUE_LSB,
+              CEILNAV_MAX_RUNS_PER_ROW_VALUE_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_MAX_RUNS_PER_ROW_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_HIST_SOURCE_OFFSET)],
+          put(32'(hist_src_q), CEILNAV_HIST_SOURCE_REMAP_LSB, CEILNAV_HIST_SOURCE_REMAP_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_HIST_SOURCE_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_LUT_INDEX_OFFSET)],
+          put(32'(lut_index_q), CEILNAV_LUT_INDEX_VALUE_LSB, CEILNAV_LUT_INDEX_VALUE_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_LUT_INDEX_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_LUT_DATA_OFFSET)],
+          32'd0);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_LUT_DATA_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_HIST_INDEX_OFFSET)],
+          put(32'(hist_index_q), CEILNAV_HIST_INDEX_VALUE_LSB, CEILNAV_HIST_INDEX_VALUE_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_HIST_INDEX_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_HIST_DATA_OFFSET)],
+          32'd0);  // from the histogram port, one edge later
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_HIST_DATA_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUN_FIFO_LEVEL_OFFSET)],
+          put(32'(fifo_occupancy) + 32'(pipe_tvalid), CEILNAV_RUN_FIFO_LEVEL_VALUE_LSB,
+              CEILNAV_RUN_FIFO_LEVEL_VALUE_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUN_FIFO_LEVEL_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUN_FIFO_DEPTH_OFFSET)],
+          put(32'(RunFifoDepth), CEILNAV_RUN_FIFO_DEPTH_VALUE_LSB,
+              CEILNAV_RUN_FIFO_DEPTH_VALUE_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUN_FIFO_DEPTH_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUN_WORD0_OFFSET)],
+          {32{pipe_tvalid}} & (put(32'd1, CEILNAV_RUN_WORD0_VALID_LSB,
+                                   CEILNAV_RUN_WORD0_VALID_WIDTH) |
+          put(32'(pipe_tlast), CEILNAV_RUN_WORD0_LAST_LSB, CEILNAV_RUN_WORD0_LAST_WIDTH) |
+          put({16'd0, head_w0[15:0]}, CEILNAV_RUN_WORD0_ROW_LSB, CEILNAV_RUN_WORD0_ROW_WIDTH)));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUN_WORD0_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUN_WORD1_OFFSET)],
+          {32{pipe_tvalid}} & (put({16'd0, head_w0[31:16]}, CEILNAV_RUN_WORD1_X_START_LSB,
+                                   CEILNAV_RUN_WORD1_X_START_WIDTH) |
+          put(head_w3, CEILNAV_RUN_WORD1_X_END_LSB, CEILNAV_RUN_WORD1_X_END_WIDTH)));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUN_WORD1_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUN_WORD2_OFFSET)],
+          {32{pipe_tvalid}} & (put(head_w1, CEILNAV_RUN_WORD2_SUM_W_LSB,
+                                   CEILNAV_RUN_WORD2_SUM_W_WIDTH)));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUN_WORD2_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUN_WORD3_OFFSET)],
+          {32{pipe_tvalid}} & (put(head_w2, CEILNAV_RUN_WORD3_SUM_XW_LSB,
+                                   CEILNAV_RUN_WORD3_SUM_XW_WIDTH)));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUN_WORD3_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RES_FRAME_INDEX_OFFSET)],
+          res_frame_index);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RES_FRAME_INDEX_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_FRAME_COUNT_OFFSET)],
+          frame_count_q);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_FRAME_COUNT_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CYCLES_PER_FRAME_OFFSET)],
+          res_cycles);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CYCLES_PER_FRAME_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_EOF_TO_IRQ_CYCLES_OFFSET)],
+          eof_to_irq_q);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_EOF_TO_IRQ_CYCLES_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUNS_EMITTED_OFFSET)],
+          res_emitted);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUNS_EMITTED_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUNS_DROPPED_ROW_LIMIT_OFFSET)],
+          res_row_limit);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUNS_DROPPED_ROW_LIMIT_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUNS_DROPPED_OVERFLOW_OFFSET)],
+          res_overflow);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUNS_DROPPED_OVERFLOW_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUN_FIFO_HIGH_WATER_OFFSET)],
+          res_high_water);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUN_FIFO_HIGH_WATER_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RES_EARLY_EOL_OFFSET)],
+          res_errors[0*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RES_EARLY_EOL_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RES_LATE_EOL_OFFSET)],
+          res_errors[1*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RES_LATE_EOL_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RES_EARLY_SOF_OFFSET)],
+          res_errors[2*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RES_EARLY_SOF_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RES_MISSING_SOF_OFFSET)],
+          res_errors[3*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RES_MISSING_SOF_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RES_FRAMES_OK_OFFSET)],
+          res_errors[4*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RES_FRAMES_OK_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RES_FRAMES_ABORTED_OFFSET)],
+          res_errors[5*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RES_FRAMES_ABORTED_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CNT_EARLY_EOL_OFFSET)],
+          errors[0*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CNT_EARLY_EOL_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CNT_LATE_EOL_OFFSET)],
+          errors[1*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CNT_LATE_EOL_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CNT_EARLY_SOF_OFFSET)],
+          errors[2*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CNT_EARLY_SOF_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CNT_MISSING_SOF_OFFSET)],
+          errors[3*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CNT_MISSING_SOF_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CNT_FRAMES_OK_OFFSET)],
+          errors[4*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CNT_FRAMES_OK_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CNT_FRAMES_ABORTED_OFFSET)],
+          errors[5*32 +: 32]);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CNT_FRAMES_ABORTED_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_RUN_TRAILERS_LOST_OFFSET)],
+          trailers_lost);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_RUN_TRAILERS_LOST_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_FRAMES_OVERRUN_OFFSET)],
+          frames_overrun);
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_FRAMES_OVERRUN_OFFSET)];
+      // The moment arrays: MOM_*[i] at OFFSET + i * STRIDE.
+      for (int unsigned i = 0; i < MomWords; i++) begin
+        rd_value = rd_value | pick(sel_grey_lo[i], res_grey[64*i +: 32]) |
+                   pick(sel_grey_hi[i], res_grey[64*i+32 +: 32]) |
+                   pick(sel_mask_lo[i], res_mask[64*i +: 32]) |
+                   pick(sel_mask_hi[i], res_mask[64*i+32 +: 32]);
+        rd_ok = rd_ok | sel_grey_lo[i] | sel_grey_hi[i] | sel_mask_lo[i] | sel_mask_hi[i];
+      end
     end
   end
-  assign rd_ok   = |(rd_sel_q & rd_word_ok);
+
   assign rd_resp = rd_ok ? RespOkay : RespSlvErr;
 
   // Read side effects on the sample edge (only for an OKAY read).

@@ -108,8 +108,10 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
   const VideoBeat video_in = pass ? s_axis_video : VideoBeat{};
   const bool runs_tready = run_sink_regs_q_ ? run_pop : m_axis_runs_tready;
 
-  // Events, from the pipeline's registered outputs.
-  const FrameErrorCounters err = pipeline_.error_counters();
+  // Events, from the pipeline's registered outputs. The one-edge-old copies
+  // take the pre-edge values here, before the pipeline's edge; in most
+  // cycles no counter moved and one comparison settles it.
+  const FrameErrorCounters& err = pipeline_.error_counters();
   const bool frame_done = pipeline_.frame_done();
   uint32_t events = 0;
   if (frame_done) events |= kIntrFrameDone;
@@ -117,12 +119,17 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
       pipeline_.run_trailers_lost() != trailers_lost_prev_q_) {
     events |= kIntrRunOverflow;
   }
-  if (error_counters_differ(err, err_prev_q_)) events |= kIntrFrameError;
-  const bool eof_seen = err.frames_ok != err_prev_q_.frames_ok;
-  // An early SOF aborts a frame and opens the next one on the same beat.
-  const bool frame_closed = eof_seen || (err.frames_aborted != err_prev_q_.frames_aborted &&
-                                         err.early_sof == err_prev_q_.early_sof);
-  const uint32_t trailers_lost = pipeline_.run_trailers_lost();
+  bool eof_seen = false;
+  bool frame_closed = false;
+  if (!(err == err_prev_q_)) {
+    if (error_counters_differ(err, err_prev_q_)) events |= kIntrFrameError;
+    eof_seen = err.frames_ok != err_prev_q_.frames_ok;
+    // An early SOF aborts a frame and opens the next one on the same beat.
+    frame_closed = eof_seen || (err.frames_aborted != err_prev_q_.frames_aborted &&
+                                err.early_sof == err_prev_q_.early_sof);
+    err_prev_q_ = err;
+  }
+  trailers_lost_prev_q_ = pipeline_.run_trailers_lost();
 
   const bool hold = soft_reset_hold_q_;
   if (hold) {
@@ -162,8 +169,6 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
     in_frame_q_ = false;
   }
   if (video_sof) gate_open_q_ = enable_q_;
-  err_prev_q_ = err;
-  trailers_lost_prev_q_ = trailers_lost;
   ++cycle_q_;
 
   // ---- AXI4-Lite write channel: AW and W are taken together.

@@ -37,6 +37,18 @@ add_dependencies(ceilnav_rtl_top ceilnav_regs_gen)
 target_compile_options(ceilnav_rtl_top PRIVATE -Wno-unused-parameter)
 set_target_properties(ceilnav_rtl_top PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
+# The same RTL verilated for speed, for the throughput benchmark (bench/): no
+# assertions, no trace support, X resolved the fast way (the benchmark resets
+# the device and checks its results). Co-simulation keeps ceilnav_rtl_top.
+if(CEILNAV_BUILD_BENCHMARKS)
+  add_library(ceilnav_rtl_top_fast STATIC)
+  verilate(ceilnav_rtl_top_fast SOURCES ${ceilnav_top_sv} TOP_MODULE ceilnav_top
+           PREFIX Vceilnav_top_fast INCLUDE_DIRS ${CEILNAV_GENERATED_DIR}
+           VERILATOR_ARGS -Wno-fatal -O3 --x-assign fast --x-initial fast)
+  add_dependencies(ceilnav_rtl_top_fast ceilnav_regs_gen)
+  target_compile_options(ceilnav_rtl_top_fast PRIVATE -Wno-unused-parameter)
+endif()
+
 # Co-simulation: Vceilnav_top against stream::CeilnavTop on every port, every cycle.
 add_executable(cosim_ceilnav_top_test ${CMAKE_CURRENT_LIST_DIR}/cosim_ceilnav_top_test.cpp)
 target_link_libraries(cosim_ceilnav_top_test PRIVATE ceilnav_rtl_top ceilnav_stream ceilnav_regs

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include <opencv2/calib3d.hpp>
@@ -114,6 +116,36 @@ TEST(CameraModel, NormaliseMatchesUndistortPoints) {
       EXPECT_NEAR(xy.y(), und[n].y, 1e-9) << px[n].x << "," << px[n].y;
     }
   }
+}
+
+// The batch form runs the same Newton iterations in SIMD lanes: the results
+// must be the single-point ones bit for bit, inside the start table, outside
+// it and for every batch length (spare lanes in the last block).
+TEST(CameraModel, BatchNormaliseEqualsSinglePointBitForBit) {
+  std::vector<std::array<double, 5>> sets = kDistortions;
+  sets.push_back({});  // no distortion: K^-1
+  for (const auto& dist : sets) {
+    const CameraConfig c = make_config(640, 480, dist);
+    const CameraModel m(c);
+    for (size_t n : {size_t{0}, size_t{1}, size_t{15}, size_t{16}, size_t{17}, size_t{203}}) {
+      std::vector<double> u(n), v(n), x(n), y(n);
+      for (size_t i = 0; i < n; ++i) {
+        // A spiral from the image centre out past the borders (the table's edge).
+        const double t = static_cast<double>(i);
+        u[i] = 319.5 + 1.9 * t * std::cos(0.37 * t) + 0.013 * t;
+        v[i] = 239.5 + 1.5 * t * std::sin(0.37 * t) - 0.007 * t;
+      }
+      m.normalise(u, v, x, y);
+      for (size_t i = 0; i < n; ++i) {
+        const Eigen::Vector2d want = m.normalise(u[i], v[i]);
+        EXPECT_EQ(x[i], want.x()) << n << " " << u[i] << "," << v[i];
+        EXPECT_EQ(y[i], want.y()) << n << " " << u[i] << "," << v[i];
+      }
+    }
+  }
+  const CameraModel m(make_config(640, 480, kDistortions[0]));
+  std::vector<double> a(3), b(2);
+  EXPECT_THROW(m.normalise(a, a, a, b), std::invalid_argument);
 }
 
 // The host step has a budget of ~20 us per frame for ~200 run centres.
