@@ -84,7 +84,9 @@ T random_value(std::mt19937_64& rng) {
   const auto delta = static_cast<std::int64_t>((bits >> 2) % 9) - 4;
   const std::int64_t bases[] = {0, static_cast<std::int64_t>(T::min_raw),
                                 static_cast<std::int64_t>(T::max_raw)};
-  return T::from_raw(bases[(bits >> 8) % 3] + delta);
+  // Unsigned sum: min_raw - 4 of a 64-bit word wraps (int64 would overflow).
+  return T::from_raw(static_cast<std::uint64_t>(bases[(bits >> 8) % 3]) +
+                     static_cast<std::uint64_t>(delta));
 }
 
 struct Tally {
