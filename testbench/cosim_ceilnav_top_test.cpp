@@ -16,15 +16,7 @@
 #include "stream/config.hpp"
 #include "stream/run_scanner.hpp"
 #include "testbench/cosim_common.hpp"
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#include "Vceilnav_top.h"
-#pragma GCC diagnostic pop
+#include "testbench/top_cosim.hpp"
 
 namespace ceilnav::testbench {
 namespace {
@@ -42,80 +34,6 @@ struct BusOp {
   uint32_t data = 0;
   uint8_t strb = 0xF;
   bool sync = false;
-};
-
-// The two tops in lockstep.
-class TopCosim {
- public:
-  explicit TopCosim(uint64_t seed)
-      : sim_("ceilnav_top", seed), master_(seed ^ 0xA5A5A5A5u, AxiLiteMaster::Timing{0.3, 0.3}) {
-    // The datapath's reset is rst_ni & ~soft_rst_q. With the random power-up
-    // state soft_rst_q may start at 1, and then the first rst_ni pulse makes no
-    // negedge on the datapath reset in the simulator (real reset is a level):
-    // a second pulse, with soft_rst_q now 0, resets the datapath too.
-    sim_.async_reset();
-    model_.reset();
-  }
-
-  // One clock with the given video beat and run tready; the bus master's
-  // outputs come from the master. Returns false at the first mismatch.
-  bool step(const VideoBeat& video, bool runs_tready) {
-    const AxiLiteIn& in = master_.drive();
-    auto& d = sim_.dut();
-    d.s_axis_video_tdata_i = video.tdata;
-    d.s_axis_video_tvalid_i = video.tvalid;
-    d.s_axis_video_tuser_i = video.tuser;
-    d.s_axis_video_tlast_i = video.tlast;
-    d.s_axil_awaddr_i = in.awaddr;
-    d.s_axil_awvalid_i = in.awvalid;
-    d.s_axil_wdata_i = in.wdata;
-    d.s_axil_wstrb_i = in.wstrb;
-    d.s_axil_wvalid_i = in.wvalid;
-    d.s_axil_bready_i = in.bready;
-    d.s_axil_araddr_i = in.araddr;
-    d.s_axil_arvalid_i = in.arvalid;
-    d.s_axil_rready_i = in.rready;
-    d.m_axis_runs_tready_i = runs_tready;
-    master_.edge(model_.s_axil_out());  // handshakes with the pre-edge outputs
-    model_.clock(video, in, runs_tready);
-    sim_.edge();
-    return compare();
-  }
-
-  Cosim<Vceilnav_top>& sim() { return sim_; }
-  AxiLiteMaster& master() { return master_; }
-  const stream::CeilnavTop& model() const { return model_; }
-
- private:
-  bool compare() {
-    auto& d = sim_.dut();
-    const stream::AxiLiteOut& a = model_.s_axil_out();
-    bool ok = sim_.check("s_axil_awready_o", d.s_axil_awready_o, a.awready);
-    ok = sim_.check("s_axil_wready_o", d.s_axil_wready_o, a.wready) && ok;
-    ok = sim_.check("s_axil_bvalid_o", d.s_axil_bvalid_o, a.bvalid) && ok;
-    ok = sim_.check("s_axil_bresp_o", d.s_axil_bresp_o, a.bresp) && ok;
-    ok = sim_.check("s_axil_arready_o", d.s_axil_arready_o, a.arready) && ok;
-    ok = sim_.check("s_axil_rvalid_o", d.s_axil_rvalid_o, a.rvalid) && ok;
-    ok = sim_.check("s_axil_rdata_o", d.s_axil_rdata_o, a.rdata) && ok;
-    ok = sim_.check("s_axil_rresp_o", d.s_axil_rresp_o, a.rresp) && ok;
-    const stream::RunBeat runs = model_.m_axis_runs();
-    const stream::RunBeatWords words = stream::pack_run_beat(runs.tdata);
-    ok = sim_.check("m_axis_runs_tvalid_o", d.m_axis_runs_tvalid_o, runs.tvalid) && ok;
-    ok = sim_.check("m_axis_runs_tlast_o", d.m_axis_runs_tlast_o, runs.tlast) && ok;
-    static const char* const kWordNames[4] = {
-        "m_axis_runs_tdata_o[31:0]", "m_axis_runs_tdata_o[63:32]", "m_axis_runs_tdata_o[95:64]",
-        "m_axis_runs_tdata_o[111:96]"};
-    for (size_t i = 0; i < 4; ++i) {
-      ok = sim_.check(kWordNames[i], d.m_axis_runs_tdata_o[i], words[i]) && ok;
-    }
-    ok = sim_.check("irq_o", d.irq_o, model_.irq()) && ok;
-    ok = sim_.check("s_axis_video_tready_o", d.s_axis_video_tready_o, 1) && ok;
-    return ok;
-  }
-
-  Cosim<Vceilnav_top> sim_;
-  stream::CeilnavTop model_;
-  AxiLiteMaster master_;
 };
 
 // Threshold LUT: remap = grey (or a random table), mask = grey >= threshold.
