@@ -445,8 +445,10 @@ module ceilnav_top (
 
   assign events_frame_error = (|err_changed[3:0]) | err_changed[5];
   assign eof_seen = err_changed[4];
-  // An early SOF aborts a frame and opens the next one on the same beat.
-  assign frame_closed = eof_seen | (err_changed[5] & ~err_changed[2]);
+  // An early SOF aborts a frame and opens the next one on the same beat; an
+  // EOL error always leaves frame_check discarding (the frame aborted, or its
+  // SOF pixel rejected before it opened).
+  assign frame_closed = eof_seen | (err_changed[5] & ~err_changed[2]) | (|err_changed[1:0]);
   assign events_run_overflow = (frame_done & (res_overflow != 32'd0)) |
                                (trailers_lost != trailers_lost_prev_q);
   assign events = IntrBits'(

@@ -124,9 +124,13 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
   if (!(err == err_prev_q_)) {
     if (error_counters_differ(err, err_prev_q_)) events |= kIntrFrameError;
     eof_seen = err.frames_ok != err_prev_q_.frames_ok;
-    // An early SOF aborts a frame and opens the next one on the same beat.
-    frame_closed = eof_seen || (err.frames_aborted != err_prev_q_.frames_aborted &&
-                                err.early_sof == err_prev_q_.early_sof);
+    // An early SOF aborts a frame and opens the next one on the same beat; an
+    // EOL error always leaves frame_check discarding (the frame aborted, or
+    // its SOF pixel rejected before it opened).
+    frame_closed = eof_seen ||
+                   (err.frames_aborted != err_prev_q_.frames_aborted &&
+                    err.early_sof == err_prev_q_.early_sof) ||
+                   err.early_eol != err_prev_q_.early_eol || err.late_eol != err_prev_q_.late_eol;
     err_prev_q_ = err;
   }
   trailers_lost_prev_q_ = pipeline_.run_trailers_lost();

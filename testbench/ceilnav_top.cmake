@@ -29,7 +29,7 @@ if(NOT EXISTS ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh)
 endif()
 add_library(ceilnav_rtl_top STATIC)
 verilate(ceilnav_rtl_top SOURCES ${ceilnav_top_sv} TOP_MODULE ceilnav_top PREFIX Vceilnav_top
-         INCLUDE_DIRS ${CEILNAV_GENERATED_DIR}
+         INCLUDE_DIRS ${CEILNAV_GENERATED_DIR} ${CEILNAV_VERILATOR_COVERAGE}
          VERILATOR_ARGS -Wno-fatal --assert -O3 --x-assign unique --x-initial unique
          TRACE_FST)
 add_dependencies(ceilnav_rtl_top ceilnav_regs_gen)
@@ -62,4 +62,12 @@ add_executable(cosim_malformed_test ${CMAKE_CURRENT_LIST_DIR}/cosim_malformed_te
 target_link_libraries(cosim_malformed_test PRIVATE ceilnav_rtl_top ceilnav_stream ceilnav_regs
                                                    ceilnav_warnings GTest::gtest GTest::gtest_main)
 gtest_discover_tests(cosim_malformed_test TEST_PREFIX "cosim_malformed_test."
+                     DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")
+
+# Register faults (issue 5): bus errors, read-only writes, LUT and config changes, double buffering.
+add_executable(cosim_register_faults_test ${CMAKE_CURRENT_LIST_DIR}/cosim_register_faults_test.cpp)
+target_link_libraries(cosim_register_faults_test PRIVATE ceilnav_rtl_top ceilnav_stream ceilnav_regs
+                                                         ceilnav_warnings GTest::gtest
+                                                         GTest::gtest_main)
+gtest_discover_tests(cosim_register_faults_test TEST_PREFIX "cosim_register_faults_test."
                      DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")

@@ -11,6 +11,9 @@
 //   CEILNAV_COSIM_CYCLES=<f>  scales every test's length by f (soak: 10, 100)
 //   CEILNAV_TRACE=<file.fst>  dumps an FST trace; "%n" in the name is replaced
 //                             by the harness name (one file per test)
+//   CEILNAV_COVERAGE_DIR=<dir> in a coverage build (CEILNAV_RTL_COVERAGE=ON),
+//                             writes this harness's Verilator coverage to
+//                             <dir>/<test>.<harness>.<n>.dat (scripts/rtl_coverage)
 #pragma once
 
 #include <algorithm>
@@ -35,6 +38,9 @@
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 #include "verilated.h"
 #include "verilated_fst_c.h"
+#if defined(CEILNAV_RTL_COVERAGE) && CEILNAV_RTL_COVERAGE
+#include "verilated_cov.h"
+#endif
 #pragma GCC diagnostic pop
 
 namespace ceilnav::testbench {
@@ -137,6 +143,7 @@ class Cosim {
     if (fst_) {
       fst_->close();
     }
+    write_coverage();
   }
 
   Cosim(const Cosim&) = delete;
@@ -207,6 +214,26 @@ class Cosim {
       ADD_FAILURE() << name_ << ": " << what << " at cycle " << cycle_ << " (seed " << seed_
                     << "; rerun with CEILNAV_COSIM_SEED=" << seed_ << ")";
     }
+  }
+
+  // The coverage counters of this context, written where CEILNAV_COVERAGE_DIR
+  // says (no-op in a build without coverage or without the variable).
+  void write_coverage() {
+#if defined(CEILNAV_RTL_COVERAGE) && CEILNAV_RTL_COVERAGE
+    const char* dir = std::getenv("CEILNAV_COVERAGE_DIR");
+    if (dir == nullptr || *dir == '\0') {
+      return;
+    }
+    static int serial = 0;  // several harnesses in one test write several files
+    std::string test = "harness";
+    if (const auto* info = ::testing::UnitTest::GetInstance()->current_test_info()) {
+      test = std::string(info->test_suite_name()) + "." + info->name();
+    }
+    std::replace(test.begin(), test.end(), '/', '_');
+    const std::string path =
+        std::string(dir) + "/" + test + "." + name_ + "." + std::to_string(serial++) + ".dat";
+    ctx_->coveragep()->write(path.c_str());
+#endif
   }
 
  private:

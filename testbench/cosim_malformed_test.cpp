@@ -42,6 +42,7 @@ class Bench {
 
   Rng& rng() { return rng_; }
   Cosim<Vceilnav_top>& sim() { return top_.sim(); }
+  void hard_reset() { top_.hard_reset(); }
   std::deque<VideoBeat>& video() { return video_; }
   std::vector<stream::RunBeat>& runs_log() { return runs_log_; }
   void set_tready_p(double p) { tready_p_ = p; }
@@ -179,6 +180,8 @@ enum class Malform : uint8_t {
   kExtraLines,
   kZeroLengthLine,
   kSoftReset,
+  kHardReset,
+  kMalformedSofPixel,
 };
 
 struct Config {
@@ -346,6 +349,13 @@ void run_class(Malform m, uint64_t seed) {
       break;
     }
     case Malform::kSoftReset:
+    case Malform::kHardReset:
+      break;
+    case Malform::kMalformedSofPixel:
+      // tlast on the SOF pixel of a 32-wide frame: the frame is never opened,
+      // the rest of it is discarded silently.
+      bad[0].tlast = true;
+      e.delta.early_eol = 1;
       break;
   }
   enqueue(b, bad, c.gap_p, true);
@@ -362,15 +372,40 @@ void run_class(Malform m, uint64_t seed) {
     b.runs_log().clear();  // the FIFO was reset with the datapath
     e.delta.missing_sof = 1;
   }
+  if (m == Malform::kHardReset) {
+    // rst_ni while the frame streams: the whole device restarts (registers at
+    // their reset values, CONTROL.ENABLE = 0), so the rest of the frame is
+    // dropped by the closed input gate without counting; the host then brings
+    // the device up again (configuration, LUT, enable) before frame 3.
+    const auto until = static_cast<size_t>(rng.uniform(total / 4, total / 2));
+    while (b.video().size() > until && !b.sim().failed()) b.step();
+    b.hard_reset();
+    EXPECT_EQ(b.read(r::control::kOffset), 0u);
+    EXPECT_EQ(b.read(r::width::kOffset), r::width::kValue.reset);
+    EXPECT_EQ(b.read(r::intr_state::kOffset), 0u);
+    EXPECT_EQ(b.counters(), FrameErrorCounters{});
+    const size_t valid_left = static_cast<size_t>(std::count_if(
+        b.video().begin(), b.video().end(), [](const VideoBeat& v) { return v.tvalid; }));
+    ASSERT_GT(valid_left, 2u) << "the reset must land inside the frame";
+    b.runs_log().clear();
+    configure(b, c);
+    program_lut(b, c.cfg);
+    b.write(r::control::kOffset, r::control::kEnable.mask());
+  }
+  const bool reset = m == Malform::kSoftReset || m == Malform::kHardReset;
   if (!back_to_back) {
     b.drain_video();
     const uint32_t intr = b.read(r::intr_state::kOffset);
-    EXPECT_NE(r::intr_state::kFrameError.get(intr), 0u) << "FRAME_ERROR not raised";
+    // A hard reset clears INTR_STATE, and the gate drops the rest silently.
+    EXPECT_EQ(r::intr_state::kFrameError.get(intr), m == Malform::kHardReset ? 0u : 1u)
+        << "FRAME_ERROR";
     b.write(r::intr_state::kOffset, 0x7);
-    const uint32_t published = m == Malform::kSoftReset ? 0u : 1u + e.published;
+    const uint32_t published = reset ? 0u : 1u + e.published;
     EXPECT_EQ(b.read(r::frame_count::kOffset), published);
     EXPECT_EQ(b.read(r::status::kOffset) & r::status::kInFrame.mask(), 0u);
-    if (m == Malform::kSoftReset) {
+    if (m == Malform::kHardReset) {
+      EXPECT_EQ(b.read(r::status::kOffset) & r::status::kResultsValid.mask(), 0u);
+    } else if (m == Malform::kSoftReset) {
       // LUT contents are kept but bank 0 is active again: a full reprogram.
       EXPECT_EQ(b.read(r::status::kOffset) & r::status::kResultsValid.mask(), 0u);
       program_lut(b, c.cfg);
@@ -391,7 +426,7 @@ void run_class(Malform m, uint64_t seed) {
   } else {
     EXPECT_EQ(r::intr_state::kFrameError.get(intr), 0u) << "the good frame raised FRAME_ERROR";
   }
-  FrameErrorCounters want = m == Malform::kSoftReset ? FrameErrorCounters{} : base;
+  FrameErrorCounters want = reset ? FrameErrorCounters{} : base;
   want.early_eol += e.delta.early_eol;
   want.late_eol += e.delta.late_eol;
   want.early_sof += e.delta.early_sof;
@@ -406,7 +441,7 @@ void run_class(Malform m, uint64_t seed) {
   EXPECT_EQ(got.frames_ok, want.frames_ok);
   EXPECT_EQ(got.frames_aborted, want.frames_aborted);
   EXPECT_EQ(b.res_counters(), got) << "RES_* of the last frame = the live counters";
-  const uint32_t frames = m == Malform::kSoftReset ? 1u : 2u + e.published;
+  const uint32_t frames = reset ? 1u : 2u + e.published;
   EXPECT_EQ(b.read(r::frame_count::kOffset), frames);
   EXPECT_EQ(b.read(r::res_frame_index::kOffset), want.frames_ok - 1);
   const uint32_t status = b.read(r::status::kOffset);
@@ -449,6 +484,12 @@ TEST(MalformedCosim, ZeroLengthLine) {
 }
 TEST(MalformedCosim, SoftResetMidFrame) {
   run_class(Malform::kSoftReset, cosim_seed(507));
+}
+TEST(MalformedCosim, HardResetMidFrame) {
+  run_class(Malform::kHardReset, cosim_seed(508));
+}
+TEST(MalformedCosim, MalformedSofPixel) {
+  run_class(Malform::kMalformedSofPixel, cosim_seed(509));
 }
 
 }  // namespace

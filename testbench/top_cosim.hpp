@@ -62,6 +62,13 @@ class TopCosim {
     return compare();
   }
 
+  // Hardware reset (rst_ni pulse between two edges) of both tops, e.g. in
+  // mid-frame. Call with the bus master idle: a reset drops a transaction.
+  void hard_reset() {
+    sim_.async_reset();
+    model_.reset();
+  }
+
   Cosim<Vceilnav_top>& sim() { return sim_; }
   stream::AxiLiteMaster& master() { return master_; }
   const stream::CeilnavTop& model() const { return model_; }
