@@ -50,18 +50,27 @@ struct Rms {
   double rms() const { return n > 0 ? std::sqrt(sum2 / n) : 0.0; }
 };
 
-// Encoded in memory, then written with every error checked (a full disk or a
-// file size limit is an error, not a truncated PNG).
-void write_png(const fs::path& path, const cv::Mat& img) {
+// `relative` in the output folder's staging area. Encoded in memory, then
+// written with every error checked (a full disk or a file size limit is an
+// error, not a truncated PNG).
+void write_png(const OutputFolder& folder, const fs::path& relative, const cv::Mat& img) {
+  const fs::path shown = folder.folder() / relative;
   std::vector<unsigned char> bytes;
   if (!cv::imencode(".png", img, bytes)) {
-    throw std::runtime_error("cannot encode image '" + path.string() + "'");
+    throw std::runtime_error("cannot encode image '" + shown.string() + "'");
   }
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  std::ofstream out(folder.path(relative), std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(bytes.data()),
             static_cast<std::streamsize>(bytes.size()));
   out.close();
-  if (!out) throw std::runtime_error("error while writing '" + path.string() + "'");
+  if (!out) throw std::runtime_error("error while writing '" + shown.string() + "'");
+}
+
+// scene.yaml, read back: cv::FileStorage does not report every write error.
+void write_scene(const OutputFolder& folder, const host::CameraConfig& camera) {
+  const std::string path = folder.path("scene.yaml").string();
+  host::save_camera_config(camera, path);
+  host::load_camera_config(path);
 }
 
 // fast, model, or rtl (when this build has the Verilated device).
@@ -137,7 +146,7 @@ int run_demo(const DemoOptions& o) {
     const cv::Mat frame = golden::render_frame(camera, scene, d.pose, params);
     const golden::FrameTruth truth = golden::truth_for(camera, scene, d.pose);
     const std::string name = frame_name(i);
-    write_png(folder.path(fs::path("frames") / name), frame);
+    write_png(folder, fs::path("frames") / name, frame);
     truth_rows.emplace_back(name, truth);
 
     const auto p0 = std::chrono::steady_clock::now();
@@ -183,9 +192,9 @@ int run_demo(const DemoOptions& o) {
 
   csv.commit();
   golden::write_truth_csv(folder.path("truth.csv").string(), truth_rows);
-  host::save_camera_config(camera, folder.path("scene.yaml").string());
+  write_scene(folder, camera);
   if (overlay_frame >= 0) {
-    write_png(folder.path("overlay.png"),
+    write_png(folder, "overlay.png",
               draw_overlay(overlay_grey, overlay_outcome, nav.camera_model()));
   }
   folder.commit();
@@ -309,13 +318,13 @@ int run_render(const RenderOptions& o) {
     params.noise_seed = o.seed * 7919u + static_cast<uint64_t>(i);
     const cv::Mat frame = golden::render_frame(camera, scene, pose, params);
     const std::string name = frame_name(i);
-    write_png(folder.path(name), frame);
+    write_png(folder, name, frame);
     truth_rows.emplace_back(name, golden::truth_for(camera, scene, pose));
     progress.update(static_cast<size_t>(i + 1));
   }
   progress.finish();
   golden::write_truth_csv(folder.path("truth.csv").string(), truth_rows);
-  host::save_camera_config(camera, folder.path("scene.yaml").string());
+  write_scene(folder, camera);
   folder.commit();
   std::printf("wrote %d frames, truth.csv and scene.yaml to %s\n", o.frames, out.string().c_str());
   return 0;
