@@ -281,7 +281,7 @@ TEST(TapePose, StatusesNeverNaN) {
     EXPECT_TRUE(std::isfinite(p.yaw_rad) && std::isfinite(p.offset_m) &&
                 std::isfinite(p.pitch_est_rad) && std::isfinite(p.vp_u_px) &&
                 std::isfinite(p.vp_v_px) && std::isfinite(p.residual_rms_px) &&
-                p.line_norm.allFinite());
+                std::isfinite(p.yaw_sigma_rad) && p.line_norm.allFinite());
     if (p.status != Status::ok) {
       EXPECT_EQ(p.yaw_rad, 0.0);
       EXPECT_EQ(p.offset_m, 0.0);
