@@ -121,7 +121,9 @@ struct Scratch {
   std::vector<int> order, row, x_start, x_end, parent, label, root, root_k, comp_min_row,
       comp_max_row, comp_min_col, comp_max_col, usable_count;
   std::vector<double> u, v, x, y, w;
-  std::vector<ChainStats> chains;  // by root run index
+  std::vector<ChainStats> chains;  // by chain number
+  std::vector<int> chain_of_root;  // run index of a chain's root -> chain number
+  std::vector<int> chain_root;     // chain number -> run index of its root
   std::vector<uint8_t> usable;
   Points pts, left, right;
   std::vector<std::pair<int, int>> comps;
@@ -295,21 +297,51 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
   // tan psi = a sin p + b cos p; |psi| is capped at max_abs_yaw_deg. A branch
   // crossing or a merge adds a few rows to a chain; the fit is its tape's.
   const double max_tan_yaw = std::tan(std::min(opt.max_abs_yaw_deg, 89.0) * kDegToRad);
-  std::vector<ChainStats>& chains = sc.chains;
-  chains.assign(n, ChainStats{});
+  sc.chain_of_root.resize(n);
+  sc.chain_root.clear();
+  int* const chain_of_root = sc.chain_of_root.data();
   for (size_t i = 0; i < n; ++i) {
-    const double px = sc.x[i], py = sc.y[i];
-    if (!(sp - py * cp > 1e-9) || !std::isfinite(px) || !std::isfinite(py)) continue;
-    ChainStats& ch = chains[static_cast<size_t>(root[i])];
-    ch.n += 1.0;
-    ch.sy += py;
-    ch.sx += px;
-    ch.syy += py * py;
-    ch.sxy += py * px;
+    if (root[i] != static_cast<int>(i)) continue;
+    chain_of_root[i] = static_cast<int>(sc.chain_root.size());
+    sc.chain_root.push_back(static_cast<int>(i));
   }
-  for (size_t r = 0; r < n; ++r) {
-    ChainStats& ch = chains[r];
-    if (root[r] != static_cast<int>(r) || ch.n < 2.0) continue;
+  const size_t n_chains = sc.chain_root.size();
+  std::vector<ChainStats>& chains = sc.chains;
+  chains.assign(n_chains, ChainStats{});
+  const auto chain_of_run = [&](int rt) -> ChainStats& {
+    return chains[static_cast<size_t>(chain_of_root[static_cast<size_t>(rt)])];
+  };
+  {
+    // Runs of one chain mostly come in a row: sum in registers, store on a change.
+    ChainStats acc;
+    int acc_root = -1;
+    const auto flush = [&] {
+      if (acc_root < 0) return;
+      ChainStats& ch = chain_of_run(acc_root);
+      ch.n += acc.n;
+      ch.sy += acc.sy;
+      ch.sx += acc.sx;
+      ch.syy += acc.syy;
+      ch.sxy += acc.sxy;
+      acc = ChainStats{};
+    };
+    for (size_t i = 0; i < n; ++i) {
+      const double px = sc.x[i], py = sc.y[i];
+      if (!(sp - py * cp > 1e-9) || !std::isfinite(px) || !std::isfinite(py)) continue;
+      if (root[i] != acc_root) {
+        flush();
+        acc_root = root[i];
+      }
+      acc.n += 1.0;
+      acc.sy += py;
+      acc.sx += px;
+      acc.syy += py * py;
+      acc.sxy += py * px;
+    }
+    flush();
+  }
+  for (ChainStats& ch : chains) {
+    if (ch.n < 2.0) continue;
     const double my = ch.sy / ch.n, mx = ch.sx / ch.n;
     const double syy = ch.syy - ch.n * my * my, sxy = ch.sxy - ch.n * my * mx;
     if (!(syy > 1e-18 * ch.n)) {
@@ -354,7 +386,7 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     // Horizontal width of the tape image at normalised row y: W (sin p - y cos p) / (c cos psi).
     const double depth = sp - py * cp;
     if (!(depth > 1e-9)) ok = false;
-    ChainStats& ch = chains[rts];
+    ChainStats& ch = chain_of_run(rt);
     if (depth > 1e-9) ch.pixels += xe - xs + 1;
     if (depth > 1e-9 && max_width_factor > 0.0) {
       const double expected_px = width_scale * depth / c * ch.inv_cos_yaw;
@@ -409,14 +441,15 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
   // heading is beyond max_abs_yaw_deg, it lies on one row, or most of its
   // pixels are in runs too wide even for that heading: all of them -> degenerate.
   int tape_like = 0, along_horizon = 0;
-  for (size_t r = 0; r < n; ++r) {
-    if (root[r] != static_cast<int>(r)) continue;
+  for (size_t ci = 0; ci < n_chains; ++ci) {
+    const size_t r = static_cast<size_t>(sc.chain_root[ci]);
     if (comp_max_row[r] - comp_min_row[r] < opt.min_row_span_px &&
         comp_max_col[r] - comp_min_col[r] < opt.min_row_span_px) {
       continue;
     }
     ++tape_like;
-    if (chains[r].steep || 2 * chains[r].too_wide_pixels > chains[r].pixels) ++along_horizon;
+    const ChainStats& ch = chains[ci];
+    if (ch.steep || 2 * ch.too_wide_pixels > ch.pixels) ++along_horizon;
   }
   const Status too_few = tape_like == 0               ? Status::no_tape
                          : along_horizon == tape_like ? Status::degenerate
