@@ -178,6 +178,13 @@ for cmd in render demo; do
     bad "$cmd write error leaves nothing" "rc=$rc, '$err', $(ls -a "$work/limit_$cmd" 2>&1 | tr '\n' ' ')"
   fi
 done
+err=$( (trap '' XFSZ; ulimit -f 1; "$CEILNAV" profile --count 1 --width 32 --height 16 --sweep-frames 0 --out "$work/limit_profile/sub" 2>&1 >/dev/null) )
+rc=$?
+if [ $rc -ne 0 ] && grep -q "error while writing" <<<"$err" && [ ! -e "$work/limit_profile" ]; then
+  ok "profile write error leaves nothing"
+else
+  bad "profile write error leaves nothing" "rc=$rc, '$err', $(ls -a "$work/limit_profile" 2>&1 | tr '\n' ' ')"
+fi
 mkdir -p "$work/keep"; echo old >"$work/keep/frame_0000.png"
 err=$( (trap '' XFSZ; ulimit -f 1; "$CEILNAV" render --out "$work/keep" --frames 2 2>&1 >/dev/null) )
 if [ $? -ne 0 ] && [ "$(ls -A "$work/keep")" = "frame_0000.png" ] && [ "$(cat "$work/keep/frame_0000.png")" = old ]; then
