@@ -23,6 +23,13 @@ fs::path temporary_name(const fs::path& destination) {
   return destination.parent_path() / name;
 }
 
+// Absolute, without "." / ".." components or a trailing separator.
+fs::path normalised(const fs::path& p) {
+  fs::path a = fs::absolute(p).lexically_normal();
+  if (!a.has_filename() && a.has_parent_path()) a = a.parent_path();
+  return a;
+}
+
 fs::path folder_of(const fs::path& p) {
   const fs::path parent = p.parent_path();
   return parent.empty() ? fs::path(".") : parent;
@@ -79,26 +86,29 @@ void AtomicFile::commit() {
   committed_ = true;
 }
 
-OutputFolder::OutputFolder(fs::path folder) : folder_(std::move(folder)) {
+OutputFolder::OutputFolder(fs::path folder)
+    : folder_(std::move(folder)), dir_(normalised(folder_)) {
   std::error_code ec;
-  if (fs::exists(folder_, ec) && !fs::is_directory(folder_, ec)) {
+  if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec)) {
     throw std::runtime_error("cannot create output folder '" + folder_.string() +
                              "': a file of that name exists");
   }
-  if (!fs::exists(folder_, ec)) {
+  if (!fs::exists(dir_, ec)) {
     // The outermost folder this creates: removed again on failure.
-    created_root_ = fs::absolute(folder_);
+    created_root_ = dir_;
     while (created_root_.has_parent_path() && created_root_.parent_path() != created_root_ &&
            !fs::exists(created_root_.parent_path(), ec)) {
       created_root_ = created_root_.parent_path();
     }
-    created_ = fs::create_directories(folder_, ec);
-    if (ec || !fs::is_directory(folder_, ec)) {
+    created_ = true;
+    fs::create_directories(dir_, ec);
+    if (ec || !fs::is_directory(dir_)) {
+      discard();
       throw std::runtime_error("cannot create output folder '" + folder_.string() + "'" +
                                (ec ? ": " + ec.message() : ""));
     }
   }
-  if (::access(folder_.c_str(), W_OK) != 0) {
+  if (::access(dir_.c_str(), W_OK) != 0) {
     discard();
     throw std::runtime_error("cannot write to output folder '" + folder_.string() +
                              "': not writable");
@@ -106,7 +116,7 @@ OutputFolder::OutputFolder(fs::path folder) : folder_(std::move(folder)) {
   std::random_device rd;
   std::string name(".staging.");
   name.append(std::to_string(::getpid())).append(".").append(std::to_string(rd() & 0xFFFFFFu));
-  staging_ = folder_ / name;
+  staging_ = dir_ / name;
   if (!fs::create_directory(staging_, ec) || ec) {
     const std::string why = ec ? ec.message() : "exists";
     staging_.clear();
@@ -124,7 +134,7 @@ void OutputFolder::discard() {
   if (!staging_.empty()) fs::remove_all(staging_, ec);
   if (!created_) return;
   // Up from the output folder to the outermost one created, while empty.
-  for (fs::path p = fs::absolute(folder_);; p = p.parent_path()) {
+  for (fs::path p = dir_;; p = p.parent_path()) {
     if (!fs::is_empty(p, ec) || ec || !fs::remove(p, ec)) break;
     if (p == created_root_ || !p.has_parent_path()) break;
   }
@@ -151,7 +161,7 @@ void OutputFolder::commit() {
   }
   if (ec) throw std::runtime_error("cannot list '" + staging_.string() + "': " + ec.message());
   for (const fs::path& rel : entries) {
-    const fs::path from = staging_ / rel, dest = folder_ / rel;
+    const fs::path from = staging_ / rel, dest = dir_ / rel;
     if (fs::is_directory(from, ec)) {
       fs::create_directories(dest, ec);
     } else {

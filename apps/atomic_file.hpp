@@ -48,7 +48,8 @@ class OutputFolder {
  private:
   void discard();  // removes the staging folder, and the output folder if created here and empty
 
-  std::filesystem::path folder_;
+  std::filesystem::path folder_;  // as given (messages)
+  std::filesystem::path dir_;     // absolute, normalised
   std::filesystem::path staging_;
   std::filesystem::path created_root_;  // outermost folder created by the constructor
   bool created_ = false;
