@@ -172,6 +172,13 @@ TEST(OutputFolder, FilesAppearOnlyOnCommit) {
   }
   EXPECT_TRUE(fs::exists(out / "x.csv"));
   EXPECT_FALSE(fs::exists(out / "z.csv"));
+  {
+    // "..", "." and a trailing separator: only "c" is created, and removed.
+    OutputFolder f(d.path() / "x" / ".." / "c" / "." / "");
+    std::ofstream(f.path("x.csv")) << "x";
+  }
+  EXPECT_FALSE(fs::exists(d.path() / "x"));
+  EXPECT_FALSE(fs::exists(d.path() / "c"));
   std::ofstream(d.path() / "file") << "f";
   EXPECT_THROW(OutputFolder(d.path() / "file"), std::runtime_error);
   EXPECT_THROW(OutputFolder(d.path() / "file" / "sub"), std::runtime_error);
