@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <numbers>
@@ -49,20 +50,27 @@ struct Rms {
   double rms() const { return n > 0 ? std::sqrt(sum2 / n) : 0.0; }
 };
 
-void write_png(const fs::path& path, const cv::Mat& img) {
-  if (!cv::imwrite(path.string(), img)) {
-    throw std::runtime_error("cannot write image '" + path.string() + "'");
+// `relative` in the output folder's staging area. Encoded in memory, then
+// written with every error checked (a full disk or a file size limit is an
+// error, not a truncated PNG).
+void write_png(const OutputFolder& folder, const fs::path& relative, const cv::Mat& img) {
+  const fs::path shown = folder.folder() / relative;
+  std::vector<unsigned char> bytes;
+  if (!cv::imencode(".png", img, bytes)) {
+    throw std::runtime_error("cannot encode image '" + shown.string() + "'");
   }
+  std::ofstream out(folder.path(relative), std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) throw std::runtime_error("error while writing '" + shown.string() + "'");
 }
 
-void make_out_dir(const fs::path& dir) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir)) {
-    throw std::runtime_error("cannot create output folder '" + dir.string() + "'" +
-                             (ec ? ": " + ec.message() : ""));
-  }
-  check_writable(dir / "probe");
+// scene.yaml, read back: cv::FileStorage does not report every write error.
+void write_scene(const OutputFolder& folder, const host::CameraConfig& camera) {
+  const std::string path = folder.path("scene.yaml").string();
+  host::save_camera_config(camera, path);
+  host::load_camera_config(path);
 }
 
 // fast, model, or rtl (when this build has the Verilated device).
@@ -95,8 +103,6 @@ std::string frame_name(int i) {
 int run_demo(const DemoOptions& o) {
   if (o.frames < 2) throw std::runtime_error("--frames must be at least 2");
   const fs::path out = o.out_dir;
-  make_out_dir(out);
-  make_out_dir(out / "frames");
 
   const host::CameraConfig camera = default_camera();
   const golden::CeilingScene scene = default_corridor(camera);
@@ -110,7 +116,9 @@ int run_demo(const DemoOptions& o) {
   nav_opt.backpressure_probability = bus ? 0.3 : 0.0;
   host::Navigator nav(camera, nav_opt);
 
-  AtomicFile csv(out / "results.csv");
+  // Everything goes into a staging folder, renamed into place at the end.
+  OutputFolder folder(out);
+  AtomicFile csv(folder.path("results.csv"));
   write_results_header(csv.stream());
   std::vector<std::pair<std::string, golden::FrameTruth>> truth_rows;
 
@@ -138,7 +146,7 @@ int run_demo(const DemoOptions& o) {
     const cv::Mat frame = golden::render_frame(camera, scene, d.pose, params);
     const golden::FrameTruth truth = golden::truth_for(camera, scene, d.pose);
     const std::string name = frame_name(i);
-    write_png(out / "frames" / name, frame);
+    write_png(folder, fs::path("frames") / name, frame);
     truth_rows.emplace_back(name, truth);
 
     const auto p0 = std::chrono::steady_clock::now();
@@ -183,11 +191,13 @@ int run_demo(const DemoOptions& o) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   csv.commit();
-  golden::write_truth_csv((out / "truth.csv").string(), truth_rows);
-  host::save_camera_config(camera, (out / "scene.yaml").string());
+  golden::write_truth_csv(folder.path("truth.csv").string(), truth_rows);
+  write_scene(folder, camera);
   if (overlay_frame >= 0) {
-    write_png(out / "overlay.png", draw_overlay(overlay_grey, overlay_outcome, nav.camera_model()));
+    write_png(folder, "overlay.png",
+              draw_overlay(overlay_grey, overlay_outcome, nav.camera_model()));
   }
+  folder.commit();
 
   std::printf("\nsummary: %d frames;", o.frames);
   for (const auto& [s, n] : statuses) std::printf(" %s %d;", s.c_str(), n);
@@ -285,10 +295,11 @@ host::CameraConfig scaled_camera(int width, int height, bool distortion) {
 int run_render(const RenderOptions& o) {
   if (o.frames < 1) throw std::runtime_error("--frames must be at least 1");
   const fs::path out = o.out_dir;
-  make_out_dir(out);
   host::CameraConfig camera = scaled_camera(o.width, o.height, o.distortion);
   camera.camera_pitch_deg = o.pitch_deg;
   host::validate_camera_config(camera, "--width/--height/--pitch-deg");
+  // Everything goes into a staging folder, renamed into place at the end.
+  OutputFolder folder(out);
   const golden::CeilingScene scene =
       o.random_poses ? golden::single_tape_scene(camera.tape_width_m) : default_corridor(camera);
   golden::RenderParams params = default_render_params();
@@ -307,13 +318,14 @@ int run_render(const RenderOptions& o) {
     params.noise_seed = o.seed * 7919u + static_cast<uint64_t>(i);
     const cv::Mat frame = golden::render_frame(camera, scene, pose, params);
     const std::string name = frame_name(i);
-    write_png(out / name, frame);
+    write_png(folder, name, frame);
     truth_rows.emplace_back(name, golden::truth_for(camera, scene, pose));
     progress.update(static_cast<size_t>(i + 1));
   }
   progress.finish();
-  golden::write_truth_csv((out / "truth.csv").string(), truth_rows);
-  host::save_camera_config(camera, (out / "scene.yaml").string());
+  golden::write_truth_csv(folder.path("truth.csv").string(), truth_rows);
+  write_scene(folder, camera);
+  folder.commit();
   std::printf("wrote %d frames, truth.csv and scene.yaml to %s\n", o.frames, out.string().c_str());
   return 0;
 }

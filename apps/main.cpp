@@ -1,6 +1,11 @@
 // ceilnav: the command-line program. `ceilnav --help` lists the commands.
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <sstream>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -9,6 +14,44 @@
 #include "apps/profile.hpp"
 #include "host/camera_config_io.hpp"
 #include "stream/version.hpp"
+
+namespace {
+
+// A finite number in [lo, hi]. (CLI::Range lets NaN through: every
+// comparison with NaN is false.)
+CLI::Validator finite_in(double lo, double hi) {
+  std::ostringstream range;
+  range << "[" << lo << ", " << hi << "]";
+  return CLI::Validator(
+      [lo, hi, r = range.str()](std::string& text) -> std::string {
+        const char* begin = text.c_str();
+        char* end = nullptr;
+        errno = 0;
+        const double v = std::strtod(begin, &end);
+        if (end == begin || *end != '\0' || errno == ERANGE || !std::isfinite(v) || v < lo ||
+            v > hi) {
+          return "'" + text + "' is not a finite number in " + r;
+        }
+        return {};
+      },
+      "NUMBER in " + range.str());
+}
+
+// A seed: digits only, fitting 64 bits. (CLI11 would take "-1" as 2^64 - 1.)
+CLI::Validator unsigned_integer() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const bool digits =
+            !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+        errno = 0;
+        if (digits) std::strtoull(text.c_str(), nullptr, 10);
+        if (!digits || errno == ERANGE) return "'" + text + "' is not an integer in [0, 2^64)";
+        return {};
+      },
+      "UINT64");
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace ceilnav::app;
@@ -49,12 +92,13 @@ int main(int argc, char** argv) {
   run_cmd
       ->add_option("--gap-probability", run.gap_probability,
                    "model/rtl: probability of a tvalid gap before a pixel")
-      ->check(CLI::Range(0.0, 0.99));
+      ->check(finite_in(0.0, 0.99));
   run_cmd
       ->add_option("--backpressure-probability", run.backpressure_probability,
                    "model/rtl: probability of tready low on the run stream per cycle")
-      ->check(CLI::Range(0.0, 0.99));
-  run_cmd->add_option("--seed", run.seed, "model/rtl: seed of the gap/back-pressure pattern");
+      ->check(finite_in(0.0, 0.99));
+  run_cmd->add_option("--seed", run.seed, "model/rtl: seed of the gap/back-pressure pattern")
+      ->check(unsigned_integer());
 
   RenderOptions render;
   auto* render_cmd = app.add_subcommand(
@@ -66,11 +110,15 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--random-poses", render.random_poses,
                        "Random yaw (+-15 deg) and offset (+-0.5 m) over one tape, instead of the "
                        "demo drive");
-  render_cmd->add_option("--seed", render.seed, "Random seed")->capture_default_str();
-  render_cmd->add_option("--noise", render.noise_sigma, "Noise sigma, grey levels");
-  render_cmd->add_option("--blur", render.blur_sigma, "Blur sigma, pixels");
+  render_cmd->add_option("--seed", render.seed, "Random seed")
+      ->check(unsigned_integer())
+      ->capture_default_str();
+  render_cmd->add_option("--noise", render.noise_sigma, "Noise sigma, grey levels")
+      ->check(finite_in(0.0, 255.0));
+  render_cmd->add_option("--blur", render.blur_sigma, "Blur sigma, pixels")
+      ->check(finite_in(0.0, 20.0));
   render_cmd->add_option("--pitch-deg", render.pitch_deg, "Camera pitch")
-      ->check(CLI::Range(1.0, 90.0))
+      ->check(finite_in(1.0, 90.0))
       ->capture_default_str();
   render_cmd->add_option("--width", render.width, "Image width")->check(CLI::Range(16, 2048));
   render_cmd->add_option("--height", render.height, "Image height")->check(CLI::Range(16, 2048));
@@ -82,21 +130,38 @@ int main(int argc, char** argv) {
   acc_cmd->add_option("--frames", acc.frames, "Number of random frames")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  acc_cmd->add_option("--seed", acc.seed, "Random seed")->capture_default_str();
-  acc_cmd->add_option("--pitch-min", acc.pitch_min_deg, "Degrees")->capture_default_str();
-  acc_cmd->add_option("--pitch-max", acc.pitch_max_deg, "Degrees")->capture_default_str();
-  acc_cmd->add_option("--yaw-max", acc.yaw_max_deg, "Degrees")->capture_default_str();
-  acc_cmd->add_option("--offset-max", acc.offset_max_m, "Metres")->capture_default_str();
-  acc_cmd->add_option("--noise-max", acc.noise_max, "Noise sigma, grey levels")
+  acc_cmd->add_option("--seed", acc.seed, "Random seed")
+      ->check(unsigned_integer())
       ->capture_default_str();
-  acc_cmd->add_option("--blur-max", acc.blur_max, "Blur sigma, pixels")->capture_default_str();
+  acc_cmd->add_option("--pitch-min", acc.pitch_min_deg, "Degrees")
+      ->check(finite_in(0.0, 90.0))
+      ->capture_default_str();
+  acc_cmd->add_option("--pitch-max", acc.pitch_max_deg, "Degrees")
+      ->check(finite_in(0.0, 90.0))
+      ->capture_default_str();
+  acc_cmd->add_option("--yaw-max", acc.yaw_max_deg, "Degrees")
+      ->check(finite_in(0.0, 89.0))
+      ->capture_default_str();
+  acc_cmd->add_option("--offset-max", acc.offset_max_m, "Metres")
+      ->check(finite_in(0.0, 10.0))
+      ->capture_default_str();
+  acc_cmd->add_option("--noise-max", acc.noise_max, "Noise sigma, grey levels")
+      ->check(finite_in(0.0, 255.0))
+      ->capture_default_str();
+  acc_cmd->add_option("--blur-max", acc.blur_max, "Blur sigma, pixels")
+      ->check(finite_in(0.0, 20.0))
+      ->capture_default_str();
   acc_cmd->add_option("--width", acc.width, "Image width")->check(CLI::Range(16, 2048));
   acc_cmd->add_option("--height", acc.height, "Image height")->check(CLI::Range(16, 2048));
   acc_cmd->add_flag("!--no-distortion", acc.distortion, "Render without lens distortion");
-  acc_cmd->add_option("--tape-gain", acc.tape_gain, "Tape return: grey above background at 1 m");
-  acc_cmd->add_option("--background", acc.background_grey, "Ceiling grey level");
-  acc_cmd->add_option("--ceiling-m", acc.ceiling_height_m, "Ceiling height above the floor");
-  acc_cmd->add_option("--tape-width-m", acc.tape_width_m, "Tape width");
+  acc_cmd->add_option("--tape-gain", acc.tape_gain, "Tape return: grey above background at 1 m")
+      ->check(finite_in(0.0, 1e7));
+  acc_cmd->add_option("--background", acc.background_grey, "Ceiling grey level")
+      ->check(finite_in(0.0, 255.0));
+  acc_cmd->add_option("--ceiling-m", acc.ceiling_height_m, "Ceiling height above the floor")
+      ->check(finite_in(0.0, 100.0));
+  acc_cmd->add_option("--tape-width-m", acc.tape_width_m, "Tape width")
+      ->check(finite_in(0.001, 1.0));
   acc_cmd->add_option("--csv", acc.csv, "Per-frame errors to this CSV");
   acc_cmd->add_flag("--require", acc.require,
                     "Exit 1 unless yaw RMS <= 0.02 deg, offset RMS <= 1 mm and every frame ok");

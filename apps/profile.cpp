@@ -637,18 +637,14 @@ int run_profile(const ProfileOptions& o) {
   }
 
   if (!o.out_dir.empty()) {
-    std::error_code ec;
-    fs::create_directories(out, ec);
-    if (ec || !fs::is_directory(out)) {
-      throw std::runtime_error("cannot create output folder '" + out.string() + "'" +
-                               (ec ? ": " + ec.message() : ""));
-    }
-    AtomicFile csv(out / "profile.csv");
+    // Every file is staged and renamed into place together (OutputFolder).
+    OutputFolder folder(out);
+    AtomicFile csv(folder.path("profile.csv"));
     csv.stream() << kFrameCsvHeader;
     for (size_t i = 0; i < main_run.frames.size(); ++i) {
       write_frame_row(csv.stream(), i, main_run.frames[i]);
     }
-    AtomicFile summary(out / "profile_summary.csv");
+    AtomicFile summary(folder.path("profile_summary.csv"));
     summary.stream() << kSummaryCsvHeader;
     write_summary_row(summary.stream(), main_run, o.backend);
     for (const Summary& m : sweep) write_summary_row(summary.stream(), m, o.backend);
@@ -699,9 +695,10 @@ int run_profile(const ProfileOptions& o) {
     // Everything is computed before anything is renamed into place.
     csv.commit();
     summary.commit();
-    write_png_atomic(out / "latency.png", latency);
-    write_png_atomic(out / "fifo.png", fifo);
-    if (!sweep.empty()) write_png_atomic(out / "throughput.png", throughput);
+    write_png_atomic(folder.path("latency.png"), latency);
+    write_png_atomic(folder.path("fifo.png"), fifo);
+    if (!sweep.empty()) write_png_atomic(folder.path("throughput.png"), throughput);
+    folder.commit();
     std::printf("wrote %s/profile.csv, profile_summary.csv, latency.png, fifo.png%s\n",
                 out.string().c_str(), sweep.empty() ? "" : ", throughput.png");
   }

@@ -70,11 +70,12 @@ FrameOutcome Navigator::process(const cv::Mat& grey) {
   }
   FrameOutcome out;
   ThresholdSettings settings = previous_.value_or(ThresholdSettings{});
+  ThresholdSettings fresh;  // from this frame's histogram (of the camera grey: same every pass)
   for (int pass = 1; pass <= 2; ++pass) {
     out.results = run_pipeline(grey, settings, out.runs, out.cycles);
     out.settings = settings;
     out.passes = pass;
-    const ThresholdSettings fresh = choose_threshold(out.results.histogram, options_.threshold);
+    fresh = choose_threshold(out.results.histogram, options_.threshold);
     const bool stale = !previous_.has_value() ||
                        std::abs(static_cast<int>(fresh.threshold) - settings.threshold) >
                            options_.threshold_tolerance_grey ||
@@ -87,6 +88,12 @@ FrameOutcome Navigator::process(const cv::Mat& grey) {
 
   if (!out.results.valid) {
     out.pose.status = Status::frame_invalid;
+    return out;
+  }
+  // Saturated frame: the background (median grey) is at full scale, so no
+  // threshold can rise above it and the mask is the background itself.
+  if (fresh.threshold <= fresh.background_grey) {
+    out.pose.status = Status::no_tape;
     return out;
   }
   out.pose = estimate_tape_pose(out.runs, model_, camera_, options_.pose);

@@ -101,6 +101,15 @@ struct Candidate {
   double dist_to_centre = 0.0;
 };
 
+// Per chain of runs: its own line fit (sums over its run centres on ceiling
+// rows), the width allowance 1 / cos psi from that fit, and width-gate counts.
+struct ChainStats {
+  double n = 0.0, sy = 0.0, sx = 0.0, syy = 0.0, sxy = 0.0;
+  double inv_cos_yaw = 1.0;
+  bool steep = false;                   // heading beyond max_abs_yaw_deg, or no slope (one row)
+  int pixels = 0, too_wide_pixels = 0;  // in its runs on ceiling rows; in those too wide
+};
+
 struct MaskFit {
   Mask mask;
   LineFit fit;
@@ -110,8 +119,11 @@ struct MaskFit {
 // allocates nothing once the buffers have grown to the frame's run count.
 struct Scratch {
   std::vector<int> order, row, x_start, x_end, parent, label, root, root_k, comp_min_row,
-      comp_max_row, usable_count;
+      comp_max_row, comp_min_col, comp_max_col, usable_count;
   std::vector<double> u, v, x, y, w;
+  std::vector<ChainStats> chains;  // by chain number
+  std::vector<int> chain_of_root;  // run index of a chain's root -> chain number
+  std::vector<int> chain_root;     // chain number -> run index of its root
   std::vector<uint8_t> usable;
   Points pts, left, right;
   std::vector<std::pair<int, int>> comps;
@@ -238,15 +250,19 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     }
   }
 
-  // Chain of every run (by i and by k), and per chain its row extent.
+  // Chain of every run (by i and by k), and per chain its row and column extent.
   sc.root.resize(n);
   sc.root_k.resize(n);
   sc.comp_min_row.assign(n, 1 << 30);
   sc.comp_max_row.assign(n, -1);
+  sc.comp_min_col.assign(n, 1 << 30);
+  sc.comp_max_col.assign(n, -1);
   int* const root = sc.root.data();
   int* const root_k = sc.root_k.data();
   int* const comp_min_row = sc.comp_min_row.data();
   int* const comp_max_row = sc.comp_max_row.data();
+  int* const comp_min_col = sc.comp_min_col.data();
+  int* const comp_max_col = sc.comp_max_col.data();
   // Links point to lower indices: one pass upwards finds every root.
   for (size_t i = 0; i < n; ++i) {
     const int up = parent[i];
@@ -258,6 +274,8 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     const size_t r = static_cast<size_t>(rt);
     comp_min_row[r] = std::min(comp_min_row[r], row_k[k]);
     comp_max_row[r] = std::max(comp_max_row[r], row_k[k]);
+    comp_min_col[r] = std::min(comp_min_col[r], xs_k[k]);
+    comp_max_col[r] = std::max(comp_max_col[r], xe_k[k]);
   }
 
   // Run centres, undistorted all at once.
@@ -272,6 +290,70 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     sc.v[i] = r.row;
   }
   cam.normalise(sc.u, sc.v, sc.x, sc.y);
+
+  // Heading of each chain, for the width gate: a tape at heading psi is
+  // 1 / cos psi wider along a row than at psi = 0 (host_maths.md section 3).
+  // Each chain's run centres (ceiling rows only) are fitted with x = a y + b,
+  // tan psi = a sin p + b cos p; |psi| is capped at max_abs_yaw_deg. A branch
+  // crossing or a merge adds a few rows to a chain; the fit is its tape's.
+  const double max_tan_yaw = std::tan(std::min(opt.max_abs_yaw_deg, 89.0) * kDegToRad);
+  sc.chain_of_root.resize(n);
+  sc.chain_root.clear();
+  int* const chain_of_root = sc.chain_of_root.data();
+  for (size_t i = 0; i < n; ++i) {
+    if (root[i] != static_cast<int>(i)) continue;
+    chain_of_root[i] = static_cast<int>(sc.chain_root.size());
+    sc.chain_root.push_back(static_cast<int>(i));
+  }
+  const size_t n_chains = sc.chain_root.size();
+  std::vector<ChainStats>& chains = sc.chains;
+  chains.assign(n_chains, ChainStats{});
+  const auto chain_of_run = [&](int rt) -> ChainStats& {
+    return chains[static_cast<size_t>(chain_of_root[static_cast<size_t>(rt)])];
+  };
+  {
+    // Runs of one chain mostly come in a row: sum in registers, store on a change.
+    ChainStats acc;
+    int acc_root = -1;
+    const auto flush = [&] {
+      if (acc_root < 0) return;
+      ChainStats& ch = chain_of_run(acc_root);
+      ch.n += acc.n;
+      ch.sy += acc.sy;
+      ch.sx += acc.sx;
+      ch.syy += acc.syy;
+      ch.sxy += acc.sxy;
+      acc = ChainStats{};
+    };
+    for (size_t i = 0; i < n; ++i) {
+      const double px = sc.x[i], py = sc.y[i];
+      if (!(sp - py * cp > 1e-9) || !std::isfinite(px) || !std::isfinite(py)) continue;
+      if (root[i] != acc_root) {
+        flush();
+        acc_root = root[i];
+      }
+      acc.n += 1.0;
+      acc.sy += py;
+      acc.sx += px;
+      acc.syy += py * py;
+      acc.sxy += py * px;
+    }
+    flush();
+  }
+  for (ChainStats& ch : chains) {
+    if (ch.n < 2.0) continue;
+    const double my = ch.sy / ch.n, mx = ch.sx / ch.n;
+    const double syy = ch.syy - ch.n * my * my, sxy = ch.sxy - ch.n * my * mx;
+    if (!(syy > 1e-18 * ch.n)) {
+      ch.steep = true;  // one row
+      continue;
+    }
+    const double a = sxy / syy, b = mx - a * my;
+    const double tan_yaw = a * sp + b * cp;
+    if (!std::isfinite(tan_yaw)) continue;
+    ch.steep = std::abs(tan_yaw) > max_tan_yaw;
+    ch.inv_cos_yaw = std::sqrt(1.0 + std::min(tan_yaw * tan_yaw, max_tan_yaw * max_tan_yaw));
+  }
 
   // Centre-line points. Gates: runs touching the left/right image border lose
   // their margin (biased centre); the end rows of a chain inside the image are
@@ -304,10 +386,15 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     // Horizontal width of the tape image at normalised row y: W (sin p - y cos p) / (c cos psi).
     const double depth = sp - py * cp;
     if (!(depth > 1e-9)) ok = false;
-    if (ok && max_width_factor > 0.0) {
-      const double expected_px = width_scale * depth / c;
+    ChainStats& ch = chain_of_run(rt);
+    if (depth > 1e-9) ch.pixels += xe - xs + 1;
+    if (depth > 1e-9 && max_width_factor > 0.0) {
+      const double expected_px = width_scale * depth / c * ch.inv_cos_yaw;
       const double run_px = xe - xs + 1.0;
-      if (run_px > max_width_factor * expected_px + width_slack_px) ok = false;
+      if (run_px > max_width_factor * expected_px + width_slack_px) {
+        ok = false;
+        ch.too_wide_pixels += xe - xs + 1;
+      }
     }
     if (ok && std::isfinite(px) && std::isfinite(py) && weight > 0.0) {
       usable[i] = 1;
@@ -348,8 +435,27 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     std::sort(comps.begin(), comps.end(), std::greater<>());
     if (comps.size() > 4) comps.resize(4);
   }
+  // The status when too few centre-line points remain. A chain spanning
+  // min_row_span_px rows or columns is tape-like, smaller ones are noise
+  // specks: none -> no_tape. A tape-like chain runs along the horizon when its
+  // heading is beyond max_abs_yaw_deg, it lies on one row, or most of its
+  // pixels are in runs too wide even for that heading: all of them -> degenerate.
+  int tape_like = 0, along_horizon = 0;
+  for (size_t ci = 0; ci < n_chains; ++ci) {
+    const size_t r = static_cast<size_t>(sc.chain_root[ci]);
+    if (comp_max_row[r] - comp_min_row[r] < opt.min_row_span_px &&
+        comp_max_col[r] - comp_min_col[r] < opt.min_row_span_px) {
+      continue;
+    }
+    ++tape_like;
+    const ChainStats& ch = chains[ci];
+    if (ch.steep || 2 * ch.too_wide_pixels > ch.pixels) ++along_horizon;
+  }
+  const Status too_few = tape_like == 0               ? Status::no_tape
+                         : along_horizon == tape_like ? Status::degenerate
+                                                      : Status::too_few_points;
   if (usable_total < opt.min_points || comps.empty()) {
-    out.status = Status::too_few_points;
+    out.status = too_few;
     out.points_used = usable_total;
     return out;
   }
@@ -430,7 +536,7 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
   // Final statistics on the inliers.
   int used = 0;
   int row_min = 1 << 30, row_max = -1;
-  double ss = 0.0;
+  double ss = 0.0, sy = 0.0, syy = 0.0;
   Mask& final_inliers = sc.mask_a;
   inlier_mask(line, final_inliers);
   for (size_t k = 0; k < m; ++k) {
@@ -440,6 +546,8 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     row_max = std::max(row_max, pts.row[k]);
     const double r = (pts.x[k] - (line.a * pts.y[k] + line.b)) * cam.fx();
     ss += r * r;
+    sy += pts.y[k];
+    syy += pts.y[k] * pts.y[k];
   }
   out.points_used = used;
   out.residual_rms_px = used > 0 ? std::sqrt(ss / used) : 0.0;
@@ -448,11 +556,30 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     out.line_norm = Eigen::Vector3d(1.0, -line.a, -line.b) / norm;
   }
   if (used < opt.min_points) {
-    out.status = Status::too_few_points;
+    out.status = too_few;
     return out;
   }
   if (row_max - row_min < opt.min_row_span_px) {
     out.status = Status::degenerate;
+    return out;
+  }
+  // Standard error of the yaw from the scatter of the inliers about the line
+  // (unweighted least squares, residuals taken as independent): with
+  // s^2 = sum r^2 / (N - 2), var a = s^2 / S_yy, var b = s^2 (1/N + mean_y^2 / S_yy),
+  // cov(a, b) = -mean_y s^2 / S_yy, and tan psi = a sin p + b cos p.
+  {
+    const double nn = used, mean_y = sy / nn, s_yy = syy - nn * mean_y * mean_y;
+    const double s2 = used > 2 ? ss / (cam.fx() * cam.fx()) / (nn - 2.0) : 0.0;
+    const double tan_yaw = line.a * sp + line.b * cp;
+    if (s_yy > 0.0) {
+      const double var_tan = s2 * (sp * sp / s_yy + cp * cp * (1.0 / nn + mean_y * mean_y / s_yy) -
+                                   2.0 * sp * cp * mean_y / s_yy);
+      const double sigma = std::sqrt(std::max(0.0, var_tan)) / (1.0 + tan_yaw * tan_yaw);
+      if (std::isfinite(sigma)) out.yaw_sigma_rad = sigma;
+    }
+  }
+  if (out.yaw_sigma_rad > opt.max_yaw_sigma_deg * kDegToRad) {
+    out.status = Status::too_few_points;
     return out;
   }
   const Status st = pose_from_centre_line(

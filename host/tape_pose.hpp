@@ -35,8 +35,11 @@ struct TapePoseOptions {
   double tie_fraction = 0.1;
   double min_row_span_px = 10.0;  // rows spanned by the inliers; shorter is degenerate
   double max_abs_yaw_deg = 80.0;  // beyond: the tape runs along the horizon -> degenerate
-  int refine_iterations = 3;      // gather inliers / refit rounds per candidate
-  bool estimate_pitch = true;     // fit the left/right edge lines for pitch_est_rad
+  // A fit whose yaw standard error (TapePose::yaw_sigma_rad) exceeds this is
+  // too_few_points: a short piece of tape, a few rows of it.
+  double max_yaw_sigma_deg = 0.05;
+  int refine_iterations = 3;   // gather inliers / refit rounds per candidate
+  bool estimate_pitch = true;  // fit the left/right edge lines for pitch_est_rad
   // Weight each run centre by its inverse noise variance sum_w^2 / sum (x - x_c)^2
   // (bright, narrow runs count more); false (default): every run counts the same.
   // The noise-only variance ignores the threshold clipping of dim, narrow far
@@ -57,6 +60,7 @@ struct TapePose {
   double vp_u_px = 0.0, vp_v_px = 0.0;  // vanishing point of +X, ideal (undistorted) pixels
   int points_total = 0, points_used = 0;
   double residual_rms_px = 0.0;
+  double yaw_sigma_rad = 0.0;                // standard error of the yaw from the inliers' scatter
   Eigen::Vector3d line_norm{0.0, 0.0, 0.0};  // centre line l, l . (x, y, 1) = 0, l1^2 + l2^2 = 1
 };
 

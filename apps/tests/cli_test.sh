@@ -26,8 +26,8 @@ expect_error() {
   if [ $rc -eq 0 ]; then bad "$name" "exit code 0"; return; fi
   if ! grep -qiE -- "$pattern" <<<"$err"; then bad "$name" "message '$err' lacks /$pattern/"; return; fi
   if [ -n "$outfile" ] && [ -e "$outfile" ]; then bad "$name" "left $outfile behind"; return; fi
-  if [ -n "$outfile" ] && ls -a "$(dirname "$outfile")" 2>/dev/null | grep -q '\.tmp$'; then
-    bad "$name" "left a temporary file"; return
+  if [ -n "$outfile" ] && ls -a "$(dirname "$outfile")" 2>/dev/null | grep -qE '\.tmp$|^\.staging\.'; then
+    bad "$name" "left a temporary file or staging folder"; return
   fi
   ok "$name"
 }
@@ -114,8 +114,32 @@ mkdir -p "$work/small"
 $CEILNAV render --out "$work/small" --frames 1 --width 320 --height 240 >/dev/null 2>&1
 expect_error "mis-sized frame" "320x240 but the scene says 640x480" "$o" -- run --frames "$work/small" --scene "$frames/scene.yaml" --out "$o"
 
+# A mis-sized frame in the middle of the folder: no CSV although two frames
+# before it were processed.
+mkdir -p "$work/midsize"; cp "$frames"/frame_000[0-3].png "$work/midsize/"
+cp "$work/small/frame_0000.png" "$work/midsize/frame_0002.png"
+expect_error "mis-sized frame mid-folder" "frame_0002.png' is 320x240 but the scene says 640x480" "$o" -- run --frames "$work/midsize" --scene "$frames/scene.yaml" --out "$o"
+
 mkdir -p "$work/deep"; cp "$here/data/grey16.png" "$work/deep/"
 expect_error "16-bit frame" "16-bit" "$o" -- run --frames "$work/deep" --scene "$frames/scene.yaml" --out "$o"
+
+# Colour frames (RGB, RGBA; red and blue differ from green so that the BT.601
+# grey conversion gives the grey frame back, and swapped channels would not):
+# accepted, and the CSV equals the grey frames' byte for byte.
+if command -v python3 >/dev/null 2>&1; then
+  for kind in rgb rgba; do
+    mkdir -p "$work/$kind"
+    for f in "$frames"/frame_*.png; do python3 "$here/png_colour.py" $kind "$f" "$work/$kind/$(basename "$f")"; done
+    if $CEILNAV run --frames "$work/$kind" --scene "$frames/scene.yaml" --out "$work/$kind.csv" 2>"$work/$kind.err" &&
+      cmp -s "$out" "$work/$kind.csv"; then
+      ok "$kind frames == grey CSV"
+    else
+      bad "$kind frames == grey CSV" "$(cat "$work/$kind.err")"
+    fi
+  done
+else
+  echo "SKIP colour frames (no python3 to write them)"
+fi
 
 # Scene files: garbage, missing key, mistyped key, out of range, missing file.
 printf 'this: is: not: yaml: [\n' >"$work/garbage.yaml"
@@ -134,11 +158,65 @@ expect_error "empty scene file" "empty.yaml" "$o" -- run --frames "$frames" --sc
 expect_error "output folder missing" "does not exist" "$work/nodir/out.csv" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$work/nodir/out.csv"
 expect_error "output is a folder" "is a folder" "" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$work/empty"
 expect_error "output under a file" "cannot write" "" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$frames/scene.yaml/out.csv"
+# /proc takes no new files, even from root (for whom chmod a-w changes nothing).
+expect_error "run output unwritable" "cannot write '/proc/ceilnav_cli.csv'" "/proc/ceilnav_cli.csv" -- run --frames "$frames" --scene "$frames/scene.yaml" --out /proc/ceilnav_cli.csv
+expect_error "render out unwritable" "cannot create output folder '/proc/ceilnav_cli'" "/proc/ceilnav_cli" -- render --out /proc/ceilnav_cli --frames 1
+expect_error "render out under a file" "cannot create output folder" "" -- render --out "$frames/scene.yaml/r" --frames 1
+expect_error "demo out unwritable" "cannot create output folder '/proc/ceilnav_cli'" "/proc/ceilnav_cli" -- demo --out /proc/ceilnav_cli --frames 2
+expect_error "accuracy csv unwritable" "cannot write '/proc/ceilnav_cli.csv'" "/proc/ceilnav_cli.csv" -- accuracy --frames 1 --csv /proc/ceilnav_cli.csv
+expect_error "accuracy csv folder missing" "does not exist" "$work/nodir/acc.csv" -- accuracy --frames 1 --csv "$work/nodir/acc.csv"
+expect_error "accuracy csv is a folder" "is a folder" "" -- accuracy --frames 1 --csv "$work/empty"
+# A write that fails part way (a 1 KiB file size limit, SIGXFSZ ignored so
+# that write() fails with EFBIG): render and demo leave no file, not even the
+# folder they created; an existing folder keeps what it had.
+for cmd in render demo; do
+  err=$( (trap '' XFSZ; ulimit -f 1; "$CEILNAV" $cmd --out "$work/limit_$cmd/sub" --frames 2 2>&1 >/dev/null) )
+  rc=$?
+  if [ $rc -ne 0 ] && grep -q "error while writing" <<<"$err" && [ ! -e "$work/limit_$cmd" ]; then
+    ok "$cmd write error leaves nothing"
+  else
+    bad "$cmd write error leaves nothing" "rc=$rc, '$err', $(ls -a "$work/limit_$cmd" 2>&1 | tr '\n' ' ')"
+  fi
+done
+err=$( (trap '' XFSZ; ulimit -f 1; "$CEILNAV" profile --count 1 --width 32 --height 16 --sweep-frames 0 --out "$work/limit_profile/sub" 2>&1 >/dev/null) )
+rc=$?
+if [ $rc -ne 0 ] && grep -q "error while writing" <<<"$err" && [ ! -e "$work/limit_profile" ]; then
+  ok "profile write error leaves nothing"
+else
+  bad "profile write error leaves nothing" "rc=$rc, '$err', $(ls -a "$work/limit_profile" 2>&1 | tr '\n' ' ')"
+fi
+mkdir -p "$work/keep"; echo old >"$work/keep/frame_0000.png"
+err=$( (trap '' XFSZ; ulimit -f 1; "$CEILNAV" render --out "$work/keep" --frames 2 2>&1 >/dev/null) )
+if [ $? -ne 0 ] && [ "$(ls -A "$work/keep")" = "frame_0000.png" ] && [ "$(cat "$work/keep/frame_0000.png")" = old ]; then
+  ok "render write error keeps the folder as it was"
+else
+  bad "render write error keeps the folder as it was" "$err; $(ls -A "$work/keep" | tr '\n' ' ')"
+fi
 
 # Arguments.
 expect_error "unknown command" "" "" -- fly
 expect_error "missing --scene" "scene" "" -- run --frames "$frames" --out "$o"
-expect_error "bad --frames number" "frames" "" -- demo --frames 1 --out "$work/d"
+expect_error "bad --frames number" "frames" "$work/d" -- demo --frames 1 --out "$work/d"
+expect_error "unknown backend" "--backend: foo not in" "$o" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$o" --backend foo
+expect_error "demo unknown backend" "--backend: foo not in" "$work/d" -- demo --backend foo --out "$work/d"
+if [ "$CLI_BACKENDS" = "${CLI_BACKENDS/rtl/}" ]; then
+  expect_error "rtl backend not built" "built without the Verilated RTL backend" "$o" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$o" --backend rtl
+fi
+# Bad numbers: NaN, inf, out of range, not a number, a negative seed.
+expect_error "gap probability NaN" "--gap-probability: 'nan' is not a finite number" "$o" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$o" --backend model --gap-probability nan
+expect_error "gap probability 1" "--gap-probability: '1' is not a finite number in \[0, 0.99\]" "$o" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$o" --backend model --gap-probability 1
+expect_error "back-pressure not a number" "--backpressure-probability: 'half'" "$o" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$o" --backpressure-probability half
+expect_error "negative seed" "--seed: '-1' is not an integer" "$o" -- run --frames "$frames" --scene "$frames/scene.yaml" --out "$o" --seed -1
+expect_error "render noise inf" "--noise: 'inf' is not a finite number" "$work/r" -- render --out "$work/r" --noise inf
+expect_error "render blur negative" "--blur: '-1' is not a finite number" "$work/r" -- render --out "$work/r" --blur -1
+expect_error "render pitch 0" "--pitch-deg: '0' is not a finite number in \[1, 90\]" "$work/r" -- render --out "$work/r" --pitch-deg 0
+expect_error "render frames 0" "--frames" "$work/r" -- render --out "$work/r" --frames 0
+expect_error "render width 8" "--width" "$work/r" -- render --out "$work/r" --width 8
+expect_error "accuracy yaw NaN" "--yaw-max: 'nan' is not a finite number" "$work/a.csv" -- accuracy --frames 1 --yaw-max nan --csv "$work/a.csv"
+expect_error "accuracy tape width 0" "--tape-width-m: '0'" "$work/a.csv" -- accuracy --frames 1 --tape-width-m 0 --csv "$work/a.csv"
+expect_error "accuracy pitch-min > pitch-max" "pitch-min/--pitch-max" "$work/a.csv" -- accuracy --frames 1 --pitch-min 50 --pitch-max 40 --csv "$work/a.csv"
+expect_error "accuracy ceiling below camera" "--ceiling-m must be above" "$work/a.csv" -- accuracy --frames 1 --ceiling-m 0.3 --csv "$work/a.csv"
+expect_error "accuracy frames not a number" "--frames" "$work/a.csv" -- accuracy --frames many --csv "$work/a.csv"
 
 # ---- profile: II = 1, no bubbles, CSV and plots; the same cycle figures on every backend.
 # Columns of profile.csv that are cycle figures (host wall times excluded).
@@ -203,6 +281,7 @@ expect_error "profile empty frames folder" "no PNG" "$pbad" -- profile --frames 
 mkdir -p "$work/noscene"; cp "$frames/frame_0000.png" "$work/noscene/"
 expect_error "profile frames without scene" "scene" "$pbad" -- profile --frames "$work/noscene" --out "$pbad"
 expect_error "profile out under a file" "not a writable folder|not a folder" "" -- profile --count 1 --out "$frames/scene.yaml/p"
+expect_error "profile out in /proc" "cannot create output folder|not a writable folder" "/proc/ceilnav_cli" -- profile --count 1 --width 32 --height 16 --sweep-frames 0 --out /proc/ceilnav_cli
 chmod a-w "$work/empty"
 if [ -w "$work/empty" ]; then
   echo "SKIP profile unwritable out (root can write anywhere)"

@@ -240,8 +240,19 @@ TEST(TapePose, StatusesNeverNaN) {
   const Projector pr(c, 0.1, 0.1);
   std::vector<stream::RunRecord> runs;
   add_line_runs(pr, 0.0, 2, runs);
+  // Six rows of tape: shorter than min_row_span_px in rows and columns, a
+  // speck -> no_tape.
   std::vector<stream::RunRecord> few(runs.begin() + 40, runs.begin() + 46);
-  EXPECT_EQ(estimate_tape_pose(few, cam, c).status, Status::too_few_points);
+  EXPECT_EQ(estimate_tape_pose(few, cam, c).status, Status::no_tape);
+  // Forty rows of a tape cut by the left image border (runs 0..3): tape-like,
+  // but no run centre is usable -> too_few_points.
+  std::vector<stream::RunRecord> cut(runs.begin() + 40, runs.begin() + 80);
+  for (auto& r : cut) {
+    r.x_start = 0;
+    r.x_end = 3;
+    r.sum_xw = static_cast<uint64_t>(r.sum_w) * 2u;
+  }
+  EXPECT_EQ(estimate_tape_pose(cut, cam, c).status, Status::too_few_points);
   // All runs on one row: no slope.
   std::vector<stream::RunRecord> one_row;
   for (uint16_t i = 0; i < 20; ++i)
@@ -270,7 +281,7 @@ TEST(TapePose, StatusesNeverNaN) {
     EXPECT_TRUE(std::isfinite(p.yaw_rad) && std::isfinite(p.offset_m) &&
                 std::isfinite(p.pitch_est_rad) && std::isfinite(p.vp_u_px) &&
                 std::isfinite(p.vp_v_px) && std::isfinite(p.residual_rms_px) &&
-                p.line_norm.allFinite());
+                std::isfinite(p.yaw_sigma_rad) && p.line_norm.allFinite());
     if (p.status != Status::ok) {
       EXPECT_EQ(p.yaw_rad, 0.0);
       EXPECT_EQ(p.offset_m, 0.0);
