@@ -138,7 +138,7 @@ if command -v python3 >/dev/null 2>&1; then
     fi
   done
 else
-  echo "SKIP colour frames (no python3 to write them)"
+  bad "colour frames" "python3 (installed by scripts/setup) is needed to write them"
 fi
 
 # Scene files: garbage, missing key, mistyped key, out of range, missing file.
