@@ -78,7 +78,7 @@ module ceilnav_top (
   logic [7:0]           lut_index_q, hist_index_q;
   logic                 lut_wr_en_q;  // LUT write port, one edge after the bus write
   logic [7:0]           lut_wr_index_q;
-  logic [8:0]           lut_wr_data_q;
+  logic [10:0]          lut_wr_data_q;
   logic                 lut_pending_q;  // copy of thresh_lut's pending flag (STATUS)
   logic                 gate_open_q, in_frame_q;
   logic                 soft_rst_q;     // datapath held in reset
@@ -526,7 +526,8 @@ module ceilnav_top (
       lut_wr_en_q <= wr_lut_data;
       if (wr_lut_data) begin
         lut_wr_index_q <= lut_index_q;
-        lut_wr_data_q  <= {wdata[CEILNAV_LUT_DATA_MASK_LSB],
+        lut_wr_data_q  <= {wdata[CEILNAV_LUT_DATA_CLASS_LSB +: 2],
+                           wdata[CEILNAV_LUT_DATA_MASK_LSB],
                            wdata[CEILNAV_LUT_DATA_REMAP_LSB +: 8]};
       end
 

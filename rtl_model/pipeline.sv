@@ -38,7 +38,7 @@ module pipeline #(
   // LUT write port (shadow bank)
   input  logic                     lut_wr_en_i,
   input  logic [7:0]               lut_wr_index_i,
-  input  logic [8:0]               lut_wr_data_i,
+  input  logic [10:0]              lut_wr_data_i,
 
   // Runs
   output logic                     m_axis_runs_tvalid_o,
@@ -124,6 +124,7 @@ module pipeline #(
   // ---------------------------------------------------------------------------
   // Stage 2: thresh_lut (bank swap on frame_check's SOF edge).
   logic                 lut_valid, lut_sof, lut_eol, lut_eof, lut_abort, lut_mask;
+  logic [1:0]           lut_class;
   logic [7:0]           lut_grey, lut_remap;
   logic [CoordBits-1:0] lut_x, lut_y;
 
@@ -153,7 +154,8 @@ module pipeline #(
     .m_lut_eof_o   (lut_eof),
     .m_lut_abort_o (lut_abort),
     .m_lut_remap_o (lut_remap),
-    .m_lut_mask_o  (lut_mask)
+    .m_lut_mask_o  (lut_mask),
+    .m_lut_class_o (lut_class)
   );
 
   // Frame meta of the EOF pixel leaving frame_check (FrameMeta):
@@ -339,7 +341,7 @@ module pipeline #(
   assign frames_overrun_o             = mom_overrun;
 
   logic unused;
-  assign unused = ^{unused_fc_tready, unused_mom_busy, unused_hist_done, unused_rs_done};
+  assign unused = ^{unused_fc_tready, unused_mom_busy, unused_hist_done, unused_rs_done, lut_class};
 
 `ifndef SYNTHESIS
   // Every publication has a staged set, and a set is never overwritten before

@@ -268,7 +268,8 @@ uint8_t CeilnavTop::write_register(uint32_t addr, uint32_t data, uint8_t strb, u
     case r::lut_data::kOffset:
       // thresh_lut's write port: the shadow bank, swap pending.
       lut_bank_[lut_active_q_ ^ 1u][lut_index_q_] = lut_entry(
-          static_cast<uint8_t>(r::lut_data::kRemap.get(data)), r::lut_data::kMask.get(data) != 0);
+          static_cast<uint8_t>(r::lut_data::kRemap.get(data)), r::lut_data::kMask.get(data) != 0,
+          static_cast<uint8_t>(r::lut_data::kClass.get(data)));
       lut_pending_q_ = true;
       ++lut_index_q_;
       config_changed = true;
