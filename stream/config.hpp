@@ -56,6 +56,7 @@ struct PipelineConfig {
   uint16_t min_run_length = 1;      // shorter runs are not emitted (pixels)
   uint16_t max_runs_per_row = 8;    // further runs on the row are dropped and counted
   bool hist_source_remap = false;   // histogram of: false = camera grey, true = LUT remap
+  ClassWindow class_window{};       // class_moments window (default: the whole frame)
 
   friend bool operator==(const PipelineConfig&, const PipelineConfig&) = default;
 };
