@@ -1,5 +1,6 @@
 // Golden reference of the whole pipeline for one well-formed frame:
-// cv::LUT -> cv::calcHist, cv::moments, the reference run finder.
+// cv::LUT -> cv::calcHist, cv::moments (grey and mask, and per class mask in
+// the class window), the reference run finder.
 #pragma once
 
 #include <cstdint>
@@ -16,6 +17,7 @@ namespace ceilnav::golden {
 struct PipelineRef {
   stream::HistogramResults histogram;
   stream::MomentResults moments;
+  stream::ClassMomentResults class_moments;
   std::vector<stream::RunRecord> runs;  // in stream order
   uint32_t runs_dropped_row_limit = 0;
 };

@@ -29,12 +29,17 @@ void Driver::configure(const stream::PipelineConfig& cfg) {
   bus_.write32(r::max_runs_per_row::kOffset, r::max_runs_per_row::kValue.put(cfg.max_runs_per_row));
   bus_.write32(r::hist_source::kOffset,
                r::hist_source::kRemap.put(cfg.hist_source_remap ? 1u : 0u));
+  bus_.write32(r::class_win_x::kOffset, r::class_win_x::kX0.put(cfg.class_window.x0) |
+                                            r::class_win_x::kX1.put(cfg.class_window.x1));
+  bus_.write32(r::class_win_y::kOffset, r::class_win_y::kY0.put(cfg.class_window.y0) |
+                                            r::class_win_y::kY1.put(cfg.class_window.y1));
   // All 256 entries: after a bank swap the shadow bank holds the older table.
   bus_.write32(r::lut_index::kOffset, 0);
   for (stream::LutEntry e : cfg.lut) {
     bus_.write32(r::lut_data::kOffset,
                  r::lut_data::kRemap.put(e & stream::kLutRemapMask) |
-                     r::lut_data::kMask.put((e & stream::kLutMaskBit) != 0 ? 1u : 0u));
+                     r::lut_data::kMask.put((e & stream::kLutMaskBit) != 0 ? 1u : 0u) |
+                     r::lut_data::kClass.put(stream::lut_class(e)));
   }
   bus_.write32(r::intr_state::kOffset, r::intr_state::kFrameDone.mask() |
                                            r::intr_state::kRunOverflow.mask() |
@@ -58,6 +63,12 @@ stream::FrameResults Driver::read_results() {
                         uint64_t{bus_.read32(r::mom_grey_hi::kArray.at(i))} << 32;
     f.moments.mask[i] = bus_.read32(r::mom_mask_lo::kArray.at(i)) |
                         uint64_t{bus_.read32(r::mom_mask_hi::kArray.at(i))} << 32;
+  }
+  // CLASS_MOM_*[6 (c - 1) + k]: pixel class c = 1..3, moment k.
+  for (uint32_t i = 0; i < r::class_mom_lo::kCount; ++i) {
+    f.class_moments.cls[i / stream::kMomentCount][i % stream::kMomentCount] =
+        bus_.read32(r::class_mom_lo::kArray.at(i)) |
+        uint64_t{bus_.read32(r::class_mom_hi::kArray.at(i))} << 32;
   }
   f.run_stats.runs_emitted = bus_.read32(r::runs_emitted::kOffset);
   f.run_stats.runs_dropped_row_limit = bus_.read32(r::runs_dropped_row_limit::kOffset);

@@ -44,11 +44,11 @@ class Driver {
   // device of the major version the driver knows. Returns the VERSION word.
   uint32_t identify();
 
-  // Writes the whole configuration (geometry, all 256 LUT entries, scanner
-  // settings, histogram source), clears INTR_STATE, enables the FRAME_DONE
-  // interrupt and the video gate. Takes effect at the next SOF; call it
-  // between frames (after read_frame, before the next frame starts), or the
-  // LUT may change across two frames.
+  // Writes the whole configuration (geometry, all 256 LUT entries with their
+  // pixel classes, scanner settings, histogram source, class window), clears INTR_STATE, enables
+  // the FRAME_DONE interrupt and the video gate. Takes effect at the next SOF; call it between
+  // frames (after read_frame, before the next frame starts), or the LUT may change across two
+  // frames.
   void configure(const stream::PipelineConfig& cfg);
 
   // Waits for FRAME_DONE, acknowledges it, reads the result registers and

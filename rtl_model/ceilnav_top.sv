@@ -75,10 +75,11 @@ module ceilnav_top (
   logic [11:0]          width_q, height_q, min_run_q, max_runs_q;
   logic [7:0]           background_q;
   logic                 hist_src_q;
+  logic [11:0]          win_x0_q, win_x1_q, win_y0_q, win_y1_q;  // CLASS_WIN_X / _Y
   logic [7:0]           lut_index_q, hist_index_q;
   logic                 lut_wr_en_q;  // LUT write port, one edge after the bus write
   logic [7:0]           lut_wr_index_q;
-  logic [8:0]           lut_wr_data_q;
+  logic [10:0]          lut_wr_data_q;
   logic                 lut_pending_q;  // copy of thresh_lut's pending flag (STATUS)
   logic                 gate_open_q, in_frame_q;
   logic                 soft_rst_q;     // datapath held in reset
@@ -108,6 +109,7 @@ module ceilnav_top (
   logic [31:0]              res_overflow, res_high_water;
   logic [6*32-1:0]          res_errors, errors;
   logic [6*64-1:0]          res_grey, res_mask;
+  logic [18*64-1:0]         res_class;
   logic [31:0]              frames_overrun, trailers_lost;
   logic [FifoCountBits-1:0] fifo_occupancy;
 
@@ -131,6 +133,10 @@ module ceilnav_top (
     .cfg_min_run_length_i        (16'(min_run_q)),
     .cfg_max_runs_per_row_i      (16'(max_runs_q)),
     .cfg_hist_source_remap_i     (hist_src_q),
+    .cfg_class_win_x0_i          (win_x0_q),
+    .cfg_class_win_x1_i          (win_x1_q),
+    .cfg_class_win_y0_i          (win_y0_q),
+    .cfg_class_win_y1_i          (win_y1_q),
     .lut_wr_en_i                 (lut_wr_en_q),
     .lut_wr_index_i              (lut_wr_index_q),
     .lut_wr_data_i               (lut_wr_data_q),
@@ -152,6 +158,7 @@ module ceilnav_top (
     .res_errors_o                (res_errors),
     .res_mom_grey_o              (res_grey),
     .res_mom_mask_o              (res_mask),
+    .res_class_mom_o             (res_class),
     .errors_o                    (errors),
     .frames_overrun_o            (frames_overrun),
     .run_trailers_lost_o         (trailers_lost),
@@ -199,6 +206,15 @@ module ceilnav_top (
         rd_sel_q[widx(elem(CEILNAV_MOM_MASK_LO_OFFSET, i, CEILNAV_MOM_MASK_LO_STRIDE))];
     assign sel_mask_hi[i] =
         rd_sel_q[widx(elem(CEILNAV_MOM_MASK_HI_OFFSET, i, CEILNAV_MOM_MASK_HI_STRIDE))];
+  end
+
+  localparam int unsigned ClassMomWords = CEILNAV_CLASS_MOM_LO_COUNT;
+  logic [ClassMomWords-1:0] sel_class_lo, sel_class_hi;
+  for (genvar i = 0; i < ClassMomWords; i++) begin : g_class_sel
+    assign sel_class_lo[i] =
+        rd_sel_q[widx(elem(CEILNAV_CLASS_MOM_LO_OFFSET, i, CEILNAV_CLASS_MOM_LO_STRIDE))];
+    assign sel_class_hi[i] =
+        rd_sel_q[widx(elem(CEILNAV_CLASS_MOM_HI_OFFSET, i, CEILNAV_CLASS_MOM_HI_STRIDE))];
   end
 
   function automatic logic [31:0] pick(logic sel, logic [31:0] v);
@@ -258,6 +274,14 @@ module ceilnav_top (
       rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_HIST_SOURCE_OFFSET)],
           put(32'(hist_src_q), CEILNAV_HIST_SOURCE_REMAP_LSB, CEILNAV_HIST_SOURCE_REMAP_WIDTH));
       rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_HIST_SOURCE_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CLASS_WIN_X_OFFSET)],
+          put(32'(win_x0_q), CEILNAV_CLASS_WIN_X_X0_LSB, CEILNAV_CLASS_WIN_X_X0_WIDTH) |
+          put(32'(win_x1_q), CEILNAV_CLASS_WIN_X_X1_LSB, CEILNAV_CLASS_WIN_X_X1_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CLASS_WIN_X_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CLASS_WIN_Y_OFFSET)],
+          put(32'(win_y0_q), CEILNAV_CLASS_WIN_Y_Y0_LSB, CEILNAV_CLASS_WIN_Y_Y0_WIDTH) |
+          put(32'(win_y1_q), CEILNAV_CLASS_WIN_Y_Y1_LSB, CEILNAV_CLASS_WIN_Y_Y1_WIDTH));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CLASS_WIN_Y_OFFSET)];
       rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_LUT_INDEX_OFFSET)],
           put(32'(lut_index_q), CEILNAV_LUT_INDEX_VALUE_LSB, CEILNAV_LUT_INDEX_VALUE_WIDTH));
       rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_LUT_INDEX_OFFSET)];
@@ -371,6 +395,12 @@ module ceilnav_top (
                    pick(sel_mask_hi[i], res_mask[64*i+32 +: 32]);
         rd_ok = rd_ok | sel_grey_lo[i] | sel_grey_hi[i] | sel_mask_lo[i] | sel_mask_hi[i];
       end
+      // CLASS_MOM_*[i] (i = 6 (c - 1) + k) at OFFSET + i * STRIDE.
+      for (int unsigned i = 0; i < ClassMomWords; i++) begin
+        rd_value = rd_value | pick(sel_class_lo[i], res_class[64*i +: 32]) |
+                   pick(sel_class_hi[i], res_class[64*i+32 +: 32]);
+        rd_ok = rd_ok | sel_class_lo[i] | sel_class_hi[i];
+      end
     end
   end
 
@@ -408,6 +438,7 @@ module ceilnav_top (
         CEILNAV_INTR_ENABLE_OFFSET, CEILNAV_WIDTH_OFFSET, CEILNAV_HEIGHT_OFFSET,
         CEILNAV_BACKGROUND_LEVEL_OFFSET, CEILNAV_MIN_RUN_LENGTH_OFFSET,
         CEILNAV_MAX_RUNS_PER_ROW_OFFSET, CEILNAV_HIST_SOURCE_OFFSET,
+        CEILNAV_CLASS_WIN_X_OFFSET, CEILNAV_CLASS_WIN_Y_OFFSET,
         CEILNAV_LUT_INDEX_OFFSET: ;
         default: wr_err = 1'b1;  // no register, misaligned, or no writable field
       endcase
@@ -478,6 +509,10 @@ module ceilnav_top (
       min_run_q            <= 12'(CEILNAV_MIN_RUN_LENGTH_VALUE_RESVAL);
       max_runs_q           <= 12'(CEILNAV_MAX_RUNS_PER_ROW_VALUE_RESVAL);
       hist_src_q           <= CEILNAV_HIST_SOURCE_REMAP_RESVAL;
+      win_x0_q             <= CEILNAV_CLASS_WIN_X_X0_RESVAL;
+      win_x1_q             <= CEILNAV_CLASS_WIN_X_X1_RESVAL;
+      win_y0_q             <= CEILNAV_CLASS_WIN_Y_Y0_RESVAL;
+      win_y1_q             <= CEILNAV_CLASS_WIN_Y_Y1_RESVAL;
       lut_index_q          <= '0;
       hist_index_q         <= '0;
       lut_wr_en_q          <= 1'b0;
@@ -512,6 +547,14 @@ module ceilnav_top (
           CEILNAV_MAX_RUNS_PER_ROW_OFFSET:
             max_runs_q <= wdata[CEILNAV_MAX_RUNS_PER_ROW_VALUE_LSB +: 12];
           CEILNAV_HIST_SOURCE_OFFSET: hist_src_q <= wdata[CEILNAV_HIST_SOURCE_REMAP_LSB];
+          CEILNAV_CLASS_WIN_X_OFFSET: begin
+            win_x0_q <= wdata[CEILNAV_CLASS_WIN_X_X0_LSB +: 12];
+            win_x1_q <= wdata[CEILNAV_CLASS_WIN_X_X1_LSB +: 12];
+          end
+          CEILNAV_CLASS_WIN_Y_OFFSET: begin
+            win_y0_q <= wdata[CEILNAV_CLASS_WIN_Y_Y0_LSB +: 12];
+            win_y1_q <= wdata[CEILNAV_CLASS_WIN_Y_Y1_LSB +: 12];
+          end
           default: ;
         endcase
       end
@@ -528,7 +571,8 @@ module ceilnav_top (
       lut_wr_en_q <= wr_lut_data;
       if (wr_lut_data) begin
         lut_wr_index_q <= lut_index_q;
-        lut_wr_data_q  <= {wdata[CEILNAV_LUT_DATA_MASK_LSB],
+        lut_wr_data_q  <= {wdata[CEILNAV_LUT_DATA_CLASS_LSB +: 2],
+                           wdata[CEILNAV_LUT_DATA_MASK_LSB],
                            wdata[CEILNAV_LUT_DATA_REMAP_LSB +: 8]};
       end
 

@@ -1,4 +1,5 @@
-// pipeline: frame_check -> thresh_lut -> {histogram, moment_gen, run_scanner},
+// pipeline: frame_check -> thresh_lut -> {histogram, moment_gen, class_moments,
+// run_scanner},
 // the configuration that travels with the SOF, and the double-buffered frame
 // result registers. Cycle-exact twin of stream/pipeline.cpp (Pipeline::clock
 // with the histogram read port); see docs/blocks/pipeline.md, section "RTL".
@@ -8,7 +9,10 @@
 // edge T+1, and the whole set is published on the edge on which moment_gen
 // raises done_o (its done_next_o is high before it; edge
 // T+MomentGen::kCombineCycles). The moments are not copied: moment_gen's
-// output registers change only on that edge. At most one staged set waits:
+// output registers change only on that edge. class_moments takes the same EOF
+// (its eof_keep_i is moment_gen's eof_accept_o), shows it on edge T+2 and
+// keeps it until the next taken EOF (>= T+kCombineCycles): its outputs are
+// copied into the published set on the publication edge. At most one staged set waits:
 // moment_gen takes the next EOF no earlier than that edge (on it, the old set
 // is published while the new meta is staged).
 // The histogram is read through the histogram block's port; its result bank
@@ -34,11 +38,15 @@ module pipeline #(
   input  logic [15:0]              cfg_min_run_length_i,
   input  logic [15:0]              cfg_max_runs_per_row_i,
   input  logic                     cfg_hist_source_remap_i,
+  input  logic [CoordBits:0]       cfg_class_win_x0_i,  // class_moments window [x0, x1) x [y0, y1)
+  input  logic [CoordBits:0]       cfg_class_win_x1_i,
+  input  logic [CoordBits:0]       cfg_class_win_y0_i,
+  input  logic [CoordBits:0]       cfg_class_win_y1_i,
 
   // LUT write port (shadow bank)
   input  logic                     lut_wr_en_i,
   input  logic [7:0]               lut_wr_index_i,
-  input  logic [8:0]               lut_wr_data_i,
+  input  logic [10:0]              lut_wr_data_i,
 
   // Runs
   output logic                     m_axis_runs_tvalid_o,
@@ -64,6 +72,7 @@ module pipeline #(
   output logic [6*32-1:0]          res_errors_o,  // FrameErrorCounters, field i at [32*i +: 32]
   output logic [6*64-1:0]          res_mom_grey_o,  // MomentIndex i at [64*i +: 64]
   output logic [6*64-1:0]          res_mom_mask_o,
+  output logic [18*64-1:0]         res_class_mom_o,  // class c, MomentIndex k at [64*(6*(c-1)+k) +: 64]
 
   // Live status
   output logic [6*32-1:0]          errors_o,  // early_eol, late_eol, early_sof, missing_sof,
@@ -115,15 +124,21 @@ module pipeline #(
     .frames_aborted_o(fc_errors[5*32 +: 32])
   );
 
-  // StageConfig: {hist_source_remap, max_runs_per_row, min_run_length, background_level}
-  localparam int unsigned StageCfgBits = 1 + 16 + 16 + 8;
+  // StageConfig: {class window y1, y0, x1, x0, hist_source_remap, max_runs_per_row,
+  // min_run_length, background_level}
+  localparam int unsigned WinBits = CoordBits + 1;
+  localparam int unsigned CfgHistSrc = 40;  // bit of hist_source_remap
+  localparam int unsigned CfgWin = 41;      // class window x0 at [CfgWin +: WinBits], ...
+  localparam int unsigned StageCfgBits = CfgWin + 4 * WinBits;
   logic [StageCfgBits-1:0] cfg_shadow, cfg_fc_q, cfg_lut_q;
-  assign cfg_shadow = {cfg_hist_source_remap_i, cfg_max_runs_per_row_i, cfg_min_run_length_i,
-                       cfg_background_level_i};
+  assign cfg_shadow = {cfg_class_win_y1_i, cfg_class_win_y0_i, cfg_class_win_x1_i,
+                       cfg_class_win_x0_i, cfg_hist_source_remap_i, cfg_max_runs_per_row_i,
+                       cfg_min_run_length_i, cfg_background_level_i};
 
   // ---------------------------------------------------------------------------
   // Stage 2: thresh_lut (bank swap on frame_check's SOF edge).
   logic                 lut_valid, lut_sof, lut_eol, lut_eof, lut_abort, lut_mask;
+  logic [1:0]           lut_class;
   logic [7:0]           lut_grey, lut_remap;
   logic [CoordBits-1:0] lut_x, lut_y;
 
@@ -153,7 +168,8 @@ module pipeline #(
     .m_lut_eof_o   (lut_eof),
     .m_lut_abort_o (lut_abort),
     .m_lut_remap_o (lut_remap),
-    .m_lut_mask_o  (lut_mask)
+    .m_lut_mask_o  (lut_mask),
+    .m_lut_class_o (lut_class)
   );
 
   // Frame meta of the EOF pixel leaving frame_check (FrameMeta):
@@ -196,7 +212,7 @@ module pipeline #(
     .s_lut_abort_i (lut_abort),
     .s_lut_remap_i (lut_remap),
     .s_lut_mask_i  (lut_mask),
-    .source_remap_i(cfg_lut_q[StageCfgBits-1]),
+    .source_remap_i(cfg_lut_q[CfgHistSrc]),
     .done_o        (unused_hist_done),
     .hist_rd_en_i,
     .hist_rd_bin_i,
@@ -233,6 +249,48 @@ module pipeline #(
     .mask_m02_o     (k02),
     .combine_busy_o (unused_mom_busy),
     .overrun_count_o(mom_overrun)
+  );
+
+  // class_moments: the moments of the class masks 1..3 in the class window.
+  localparam int unsigned Classes = 3;
+  localparam int unsigned C00 = 2 * CoordBits + 1, C10 = 3 * CoordBits - 1;
+  localparam int unsigned C20 = 4 * CoordBits - 1, C11 = 4 * CoordBits - 2;
+  localparam int unsigned ClassResBits = Classes * (C00 + 2 * C10 + 2 * C20 + C11);
+  logic                      cls_done;
+  logic [Classes*C00-1:0]    c00;
+  logic [Classes*C10-1:0]    c10, c01;
+  logic [Classes*C20-1:0]    c20, c02;
+  logic [Classes*C11-1:0]    c11;
+
+  class_moments #(
+    .CoordBits (CoordBits),
+    .NumClasses(Classes)
+  ) u_class_moments (
+    .clk_i,
+    .rst_ni,
+    .s_lut_valid_i (lut_valid),
+    .s_lut_grey_i  (lut_grey),
+    .s_lut_x_i     (lut_x),
+    .s_lut_y_i     (lut_y),
+    .s_lut_sof_i   (lut_sof),
+    .s_lut_eol_i   (lut_eol),
+    .s_lut_eof_i   (lut_eof),
+    .s_lut_abort_i (lut_abort),
+    .s_lut_remap_i (lut_remap),
+    .s_lut_mask_i  (lut_mask),
+    .s_lut_class_i (lut_class),
+    .win_x0_i      (cfg_lut_q[CfgWin + 0*WinBits +: WinBits]),
+    .win_x1_i      (cfg_lut_q[CfgWin + 1*WinBits +: WinBits]),
+    .win_y0_i      (cfg_lut_q[CfgWin + 2*WinBits +: WinBits]),
+    .win_y1_i      (cfg_lut_q[CfgWin + 3*WinBits +: WinBits]),
+    .eof_keep_i    (mom_accept),
+    .done_o        (cls_done),
+    .m00_o         (c00),
+    .m10_o         (c10),
+    .m01_o         (c01),
+    .m20_o         (c20),
+    .m11_o         (c11),
+    .m02_o         (c02)
   );
 
   logic [31:0] rs_emitted, rs_row_limit, rs_overflow, rs_high_water;
@@ -279,6 +337,7 @@ module pipeline #(
   logic                   runs_pend_q;  // ... it did on the last edge: stage the run stats
   logic [MetaBits-1:0]    staged_meta_q, res_meta_q;
   logic [RunStatBits-1:0] staged_runs_q, res_runs_q;
+  logic [ClassResBits-1:0] res_class_q;
   logic                   res_valid_q;
 
   assign accept = lut_valid & lut_eof & mom_accept;
@@ -294,6 +353,7 @@ module pipeline #(
       staged_runs_q  <= '0;
       res_meta_q     <= '0;
       res_runs_q     <= '0;
+      res_class_q    <= '0;
       res_valid_q    <= 1'b0;
     end else begin
       if (video_sof) begin
@@ -318,6 +378,7 @@ module pipeline #(
       if (mom_done_next) begin
         res_meta_q  <= staged_meta_q;
         res_runs_q  <= staged_runs_q;
+        res_class_q <= {c02, c11, c20, c01, c10, c00};
         res_valid_q <= 1'b1;
       end
     end
@@ -335,11 +396,27 @@ module pipeline #(
   assign res_fifo_high_water_o        = res_runs_q[3*32 +: 32];
   assign res_mom_grey_o = {64'(g02), 64'(g11), 64'(g20), 64'(g01), 64'(g10), 64'(g00)};
   assign res_mom_mask_o = {64'(k02), 64'(k11), 64'(k20), 64'(k01), 64'(k10), 64'(k00)};
+  // res_class_q = {c02, c11, c20, c01, c10, c00}, each Classes x width.
+  localparam int unsigned OffC00 = 0;
+  localparam int unsigned OffC10 = OffC00 + Classes * C00;
+  localparam int unsigned OffC01 = OffC10 + Classes * C10;
+  localparam int unsigned OffC20 = OffC01 + Classes * C10;
+  localparam int unsigned OffC11 = OffC20 + Classes * C20;
+  localparam int unsigned OffC02 = OffC11 + Classes * C11;
+  for (genvar c = 0; c < Classes; c++) begin : g_res_class
+    assign res_class_mom_o[64*(6*c+0) +: 64] = 64'(res_class_q[OffC00 + c*C00 +: C00]);
+    assign res_class_mom_o[64*(6*c+1) +: 64] = 64'(res_class_q[OffC10 + c*C10 +: C10]);
+    assign res_class_mom_o[64*(6*c+2) +: 64] = 64'(res_class_q[OffC01 + c*C10 +: C10]);
+    assign res_class_mom_o[64*(6*c+3) +: 64] = 64'(res_class_q[OffC20 + c*C20 +: C20]);
+    assign res_class_mom_o[64*(6*c+4) +: 64] = 64'(res_class_q[OffC11 + c*C11 +: C11]);
+    assign res_class_mom_o[64*(6*c+5) +: 64] = 64'(res_class_q[OffC02 + c*C20 +: C20]);
+  end
   assign errors_o                     = fc_errors;
   assign frames_overrun_o             = mom_overrun;
 
   logic unused;
-  assign unused = ^{unused_fc_tready, unused_mom_busy, unused_hist_done, unused_rs_done};
+  assign unused = ^{unused_fc_tready, unused_mom_busy, unused_hist_done, unused_rs_done,
+                    cls_done};
 
 `ifndef SYNTHESIS
   // Every publication has a staged set, and a set is never overwritten before

@@ -1,4 +1,5 @@
-// thresh_lut: 256 x 9-bit programmable LUT (bits 7:0 remap, bit 8 mask) with
+// thresh_lut: 256 x 11-bit programmable LUT (bits 7:0 remap, bit 8 mask,
+// bits 10:9 pixel class) with
 // a synchronous read, double-banked: host writes go to the shadow bank and are
 // committed (bank swap) on the frame-start edge. Cycle-exact twin of
 // stream/thresh_lut.cpp (ThreshLut::clock with LutWrite); see
@@ -25,7 +26,7 @@ module thresh_lut #(
   // Host write port into the shadow bank
   input  logic                 lut_wr_en_i,
   input  logic [7:0]           lut_wr_index_i,
-  input  logic [8:0]           lut_wr_data_i,
+  input  logic [10:0]          lut_wr_data_i,
 
   // LutBeat: the delayed pixel beat plus LUT[grey]
   output logic                 m_lut_valid_o,
@@ -37,16 +38,17 @@ module thresh_lut #(
   output logic                 m_lut_eof_o,
   output logic                 m_lut_abort_o,
   output logic [7:0]           m_lut_remap_o,
-  output logic                 m_lut_mask_o
+  output logic                 m_lut_mask_o,
+  output logic [1:0]           m_lut_class_o
 );
 
-  // Two BRAM banks, 256 x 9, one write and one synchronous read port each.
+  // Two BRAM banks, 256 x 11, one write and one synchronous read port each.
   // A bank is read only while active and written only while shadow: the read
   // and write enables exclude each other, so no read-during-write collision
   // exists and no bypass logic is needed.
-  (* ram_style = "block" *) logic [8:0] bank0_mem [256];
-  (* ram_style = "block" *) logic [8:0] bank1_mem [256];
-  logic [8:0] bank0_rd_q, bank1_rd_q;
+  (* ram_style = "block" *) logic [10:0] bank0_mem [256];
+  (* ram_style = "block" *) logic [10:0] bank1_mem [256];
+  logic [10:0] bank0_rd_q, bank1_rd_q;
 
   logic active_d, active_q;    // bank select
   logic pending_d, pending_q;  // shadow bank written since the last swap
@@ -113,10 +115,10 @@ module thresh_lut #(
     end
   end
 
-  // remap and mask are 0 on beats without a pixel (the BRAM output register
+  // remap, mask and class are 0 on beats without a pixel (the BRAM output register
   // has no reset; the gate keeps its power-up value off the port).
-  logic [8:0] entry;
-  assign entry = pix_valid_q ? (rd_bank_q ? bank1_rd_q : bank0_rd_q) : 9'd0;
+  logic [10:0] entry;
+  assign entry = pix_valid_q ? (rd_bank_q ? bank1_rd_q : bank0_rd_q) : 11'd0;
 
   assign m_lut_valid_o = pix_valid_q;
   assign m_lut_grey_o  = pix_grey_q;
@@ -128,5 +130,6 @@ module thresh_lut #(
   assign m_lut_abort_o = pix_abort_q;
   assign m_lut_remap_o = entry[7:0];
   assign m_lut_mask_o  = entry[8];
+  assign m_lut_class_o = entry[10:9];
 
 endmodule

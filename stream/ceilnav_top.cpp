@@ -12,6 +12,8 @@ constexpr uint8_t kSlvErr = regs::kRespSlvErr;
 
 static_assert(regs::mom_grey_lo::kCount == kMomentCount &&
               regs::mom_mask_hi::kCount == kMomentCount);
+static_assert(regs::class_mom_lo::kCount == kMomentClasses * kMomentCount &&
+              regs::class_mom_hi::kCount == kMomentClasses * kMomentCount);
 
 uint32_t lo(uint64_t v) {
   return static_cast<uint32_t>(v);
@@ -44,6 +46,10 @@ void CeilnavTop::reset() {
   cfg_q_.min_run_length = static_cast<uint16_t>(regs::min_run_length::kValue.reset);
   cfg_q_.max_runs_per_row = static_cast<uint16_t>(regs::max_runs_per_row::kValue.reset);
   cfg_q_.hist_source_remap = regs::hist_source::kRemap.reset != 0;
+  cfg_q_.class_window = {static_cast<uint16_t>(regs::class_win_x::kX0.reset),
+                         static_cast<uint16_t>(regs::class_win_x::kX1.reset),
+                         static_cast<uint16_t>(regs::class_win_y::kY0.reset),
+                         static_cast<uint16_t>(regs::class_win_y::kY1.reset)};
   lut_index_q_ = 0;
   hist_index_q_ = 0;
   gate_open_q_ = false;
@@ -266,13 +272,24 @@ uint8_t CeilnavTop::write_register(uint32_t addr, uint32_t data, uint8_t strb, u
       cfg_q_.hist_source_remap = r::hist_source::kRemap.get(data) != 0;
       config_changed = true;
       break;
+    case r::class_win_x::kOffset:
+      cfg_q_.class_window.x0 = static_cast<uint16_t>(r::class_win_x::kX0.get(data));
+      cfg_q_.class_window.x1 = static_cast<uint16_t>(r::class_win_x::kX1.get(data));
+      config_changed = true;
+      break;
+    case r::class_win_y::kOffset:
+      cfg_q_.class_window.y0 = static_cast<uint16_t>(r::class_win_y::kY0.get(data));
+      cfg_q_.class_window.y1 = static_cast<uint16_t>(r::class_win_y::kY1.get(data));
+      config_changed = true;
+      break;
     case r::lut_index::kOffset:
       lut_index_q_ = static_cast<uint8_t>(r::lut_index::kValue.get(data));
       break;
     case r::lut_data::kOffset:
       // thresh_lut's write port: the shadow bank, swap pending.
       lut_bank_[lut_active_q_ ^ 1u][lut_index_q_] = lut_entry(
-          static_cast<uint8_t>(r::lut_data::kRemap.get(data)), r::lut_data::kMask.get(data) != 0);
+          static_cast<uint8_t>(r::lut_data::kRemap.get(data)), r::lut_data::kMask.get(data) != 0,
+          static_cast<uint8_t>(r::lut_data::kClass.get(data)));
       lut_pending_q_ = true;
       ++lut_index_q_;
       config_changed = true;
@@ -333,6 +350,12 @@ uint32_t CeilnavTop::read_register(uint32_t addr, uint8_t& resp) const {
       return r::max_runs_per_row::kValue.put(cfg_q_.max_runs_per_row);
     case r::hist_source::kOffset:
       return r::hist_source::kRemap.put(cfg_q_.hist_source_remap ? 1u : 0u);
+    case r::class_win_x::kOffset:
+      return r::class_win_x::kX0.put(cfg_q_.class_window.x0) |
+             r::class_win_x::kX1.put(cfg_q_.class_window.x1);
+    case r::class_win_y::kOffset:
+      return r::class_win_y::kY0.put(cfg_q_.class_window.y0) |
+             r::class_win_y::kY1.put(cfg_q_.class_window.y1);
     case r::lut_index::kOffset:
       return r::lut_index::kValue.put(lut_index_q_);
     case r::hist_index::kOffset:
@@ -415,6 +438,17 @@ uint32_t CeilnavTop::read_register(uint32_t addr, uint8_t& resp) const {
   }
   if (const int i = regs::mom_mask_hi::kArray.index(a); i >= 0) {
     return hi(res.moments.mask[moment(i)]);
+  }
+  // CLASS_MOM_*[i]: class c = i / 6 + 1, moment k = i % 6.
+  const auto class_moment = [&res](int i) {
+    return res.class_moments
+        .cls[static_cast<size_t>(i / kMomentCount)][static_cast<size_t>(i % kMomentCount)];
+  };
+  if (const int i = regs::class_mom_lo::kArray.index(a); i >= 0) {
+    return lo(class_moment(i));
+  }
+  if (const int i = regs::class_mom_hi::kArray.index(a); i >= 0) {
+    return hi(class_moment(i));
   }
   // Write-only registers (INTR_TEST, LUT_DATA) read 0.
   return 0;

@@ -6,16 +6,47 @@
 #include <array>
 #include <cstdint>
 
+#include "stream/limits.hpp"
+
 namespace ceilnav::stream {
 
-// One threshold-LUT entry: bits 7:0 = remapped grey, bit 8 = mask.
+// One threshold-LUT entry: bits 7:0 = remapped grey, bit 8 = mask,
+// bits 10:9 = pixel class (PixelClass, for class_moments).
 using LutEntry = uint16_t;
 inline constexpr LutEntry kLutRemapMask = 0x00FF;
 inline constexpr LutEntry kLutMaskBit = 0x0100;
+inline constexpr int kLutClassShift = 9;
+inline constexpr LutEntry kLutClassMask = 0x0600;
+inline constexpr LutEntry kLutEntryMask = kLutClassMask | kLutMaskBit | kLutRemapMask;
 
-constexpr LutEntry lut_entry(uint8_t remap, bool mask) {
-  return static_cast<LutEntry>(remap | (mask ? kLutMaskBit : 0u));
+// Pixel class codes of the LUT's CLASS field (fixed: the host is written
+// against them).
+enum PixelClass : uint8_t {
+  kClassBackground = 0,
+  kClassPattern = 1,  // the circle
+  kClassShadow = 2,
+  kClassBar = 3,
+  kClassCount
+};
+
+constexpr LutEntry lut_entry(uint8_t remap, bool mask, uint8_t pixel_class = kClassBackground) {
+  return static_cast<LutEntry>(remap | (mask ? kLutMaskBit : 0u) |
+                               ((unsigned{pixel_class} << kLutClassShift) & kLutClassMask));
 }
+constexpr uint8_t lut_class(LutEntry e) {
+  return static_cast<uint8_t>((e & kLutClassMask) >> kLutClassShift);
+}
+
+// class_moments window [x0, x1) x [y0, y1) in frame coordinates (12-bit
+// register fields; bounds above the frame act as the frame edge, x1 <= x0 or
+// y1 <= y0 is empty). Default: the whole frame.
+struct ClassWindow {
+  uint16_t x0 = 0;
+  uint16_t x1 = static_cast<uint16_t>(kMaxWidth);
+  uint16_t y0 = 0;
+  uint16_t y1 = static_cast<uint16_t>(kMaxHeight);
+  friend bool operator==(const ClassWindow&, const ClassWindow&) = default;
+};
 
 struct PipelineConfig {
   uint16_t width = 640;             // pixels per line, 1 .. kMaxWidth
@@ -25,6 +56,7 @@ struct PipelineConfig {
   uint16_t min_run_length = 1;      // shorter runs are not emitted (pixels)
   uint16_t max_runs_per_row = 8;    // further runs on the row are dropped and counted
   bool hist_source_remap = false;   // histogram of: false = camera grey, true = LUT remap
+  ClassWindow class_window{};       // class_moments window (default: the whole frame)
 
   friend bool operator==(const PipelineConfig&, const PipelineConfig&) = default;
 };

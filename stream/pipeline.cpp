@@ -16,6 +16,7 @@ void Pipeline::reset() {
   lut_.reset();
   hist_.reset();
   mom_.reset();
+  cls_.reset();
   runs_.reset();
   cfg_fc_ = stage_config(shadow_);
   cfg_lut_ = cfg_fc_;
@@ -49,10 +50,17 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, boo
   const LutBeat lut_out = lut_.m_lut();
   const bool video_sof = s_axis_video.tvalid && s_axis_video.tuser;
 
-  // ---- Stage 3: histogram, moment_gen, run_scanner (all sample lut_out).
+  // ---- Stage 3: histogram, moment_gen, class_moments, run_scanner (all
+  // sample lut_out). class_moments keeps only the frames that moment_gen
+  // takes (eof_keep = moment_gen's eof_accept), so its outputs still hold the
+  // frame when moment_gen publishes it; they are read before its edge.
   const uint32_t overruns_before = mom_.overrun_count();
+  const ClassMomentResults class_results = cls_.results();
   hist_.clock(lut_out, cfg_lut_.hist_source_remap, hist_rd_en, hist_rd_bin);
   mom_.clock(lut_out);
+  const bool mom_accept =
+      lut_out.pix.valid && lut_out.pix.eof && mom_.overrun_count() == overruns_before;
+  cls_.clock(lut_out, cfg_lut_.class_window, mom_accept);
   runs_.set_active_config(cfg_lut_.runs);
   runs_.clock(lut_out, m_axis_runs_tready);
 
@@ -66,6 +74,7 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, boo
     results_q_.valid = true;
     results_q_.histogram = staged_hist_q_;
     results_q_.moments = mom_.results();
+    results_q_.class_moments = class_results;
     results_q_.run_stats = staged_runs_q_;
     results_q_.errors = staged_meta_q_.errors;
     results_q_.cycles_in_frame = staged_meta_q_.cycles_in_frame;
@@ -74,7 +83,7 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, boo
     staged_hist_q_ = hist_.results();
   }
   hist_accept_q_ = false;
-  if (lut_out.pix.valid && lut_out.pix.eof && mom_.overrun_count() == overruns_before) {
+  if (mom_accept) {
     staged_runs_q_ = runs_.last_frame_stats();
     staged_meta_q_ = meta_lut_q_;
     hist_accept_q_ = true;
@@ -111,6 +120,7 @@ void Pipeline::build_tables() {
   for (unsigned g = 0; g < 256; ++g) {
     remap_table_[g] = static_cast<uint8_t>(table[g] & kLutRemapMask);
     mask_table_[g] = (table[g] & kLutMaskBit) != 0 ? 1 : 0;
+    class_table_[g] = lut_class(table[g]);
   }
 }
 
@@ -136,6 +146,8 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
   const auto w = static_cast<uint32_t>(width);
   remap_row_.resize(w);
   mask_row_.resize(w);
+  class_row_.resize(w);
+  ClassMomentResults class_sums;
   std::array<uint32_t, Histogram::kBins> bins{};
   MomentGen::FrameSums sums;
   std::vector<RunRecord> local_runs;
@@ -148,6 +160,7 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
     for (uint32_t x = 0; x < w; ++x) {
       remap_row_[x] = remap_table_[row[x]];
       mask_row_[x] = mask_table_[row[x]];
+      class_row_[x] = class_table_[row[x]];
     }
     const uint8_t* hist_row = hist_remap ? remap_row_.data() : row;
     for (uint32_t x = 0; x < w; ++x) {
@@ -155,6 +168,8 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
     }
     MomentGen::accumulate_row(sums, static_cast<uint32_t>(y), remap_row_.data(), mask_row_.data(),
                               w);
+    ClassMoments::accumulate_row(class_sums, static_cast<uint32_t>(y), class_row_.data(), w,
+                                 cfg_lut_.class_window);
     const size_t first_new = runs.size();
     RunScanner::scan_row(cfg_lut_.runs, static_cast<uint16_t>(y), remap_row_.data(),
                          mask_row_.data(), w, runs, stats.runs_dropped_row_limit);
@@ -179,6 +194,7 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
   r.valid = true;
   r.histogram = hist_.results();
   r.moments = MomentGen::finish(sums);
+  r.class_moments = class_sums;
   r.run_stats = stats;
   r.errors = fc_.counters();
   r.cycles_in_frame = uint64_t{w} * static_cast<uint64_t>(height);

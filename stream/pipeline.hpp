@@ -1,5 +1,5 @@
 // The pipeline top: frame_check -> thresh_lut -> {histogram, moment_gen,
-// run_scanner}, the shadow/active configuration, the double-buffered frame
+// class_moments, run_scanner}, the shadow/active configuration, the double-buffered frame
 // result registers and the frame_done interrupt source.
 // See docs/blocks/pipeline.md.
 #pragma once
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "stream/beat.hpp"
+#include "stream/class_moments.hpp"
 #include "stream/config.hpp"
 #include "stream/frame_check.hpp"
 #include "stream/histogram.hpp"
@@ -26,6 +27,7 @@ struct FrameResults {
   bool valid = false;        // false until the first frame is published after reset
   HistogramResults histogram;
   MomentResults moments;
+  ClassMomentResults class_moments;  // per pixel class 1..3 inside the class window
   RunStats run_stats;
   FrameErrorCounters errors;     // frame_check's counters as of this frame's EOF pixel
   uint64_t cycles_in_frame = 0;  // clock cycles from the SOF pixel to the EOF pixel, inclusive
@@ -93,6 +95,7 @@ class Pipeline {
   struct StageConfig {
     RunScanConfig runs;
     bool hist_source_remap = false;
+    ClassWindow class_window{};
   };
   // What the result registers take from the frame_check side, carried two
   // stages to the point where the frame reaches histogram/moment/run.
@@ -103,7 +106,7 @@ class Pipeline {
   };
 
   static StageConfig stage_config(const PipelineConfig& cfg) {
-    return {RunScanConfig::from(cfg), cfg.hist_source_remap};
+    return {RunScanConfig::from(cfg), cfg.hist_source_remap, cfg.class_window};
   }
   void build_tables();
 
@@ -113,6 +116,7 @@ class Pipeline {
   ThreshLut lut_;
   Histogram hist_;
   MomentGen mom_;
+  ClassMoments cls_;
   RunScanner runs_;
 
   StageConfig cfg_fc_{};   // latched with the SOF beat by frame_check
@@ -134,8 +138,10 @@ class Pipeline {
   // Fast path scratch (no hardware meaning).
   std::array<uint8_t, 256> remap_table_{};
   std::array<uint8_t, 256> mask_table_{};
+  std::array<uint8_t, 256> class_table_{};
   std::vector<uint8_t> remap_row_;
   std::vector<uint8_t> mask_row_;
+  std::vector<uint8_t> class_row_;
 };
 
 }  // namespace ceilnav::stream

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "stream/run_record.hpp"
@@ -16,6 +17,21 @@ struct MomentResults {
   std::array<uint64_t, kMomentCount> grey{};  // of the LUT remap value
   std::array<uint64_t, kMomentCount> mask{};  // of the mask bit (0/1)
   friend bool operator==(const MomentResults&, const MomentResults&) = default;
+};
+
+// class_moments: m00 m10 m01 m20 m11 m02 of the binary mask of each measured
+// pixel class (stream::PixelClass 1 = pattern, 2 = shadow, 3 = bar) inside the
+// class window, in frame coordinates. Index c - 1. The background (class 0)
+// is not measured: its moments are those of the window minus the three rows.
+inline constexpr int kMomentClasses = 3;
+
+struct ClassMomentResults {
+  std::array<std::array<uint64_t, kMomentCount>, kMomentClasses> cls{};
+  // Moments of class c (1 .. kMomentClasses); throws std::out_of_range otherwise.
+  const std::array<uint64_t, kMomentCount>& of(int pixel_class) const {
+    return cls.at(static_cast<std::size_t>(pixel_class - 1));
+  }
+  friend bool operator==(const ClassMomentResults&, const ClassMomentResults&) = default;
 };
 
 struct HistogramResults {

@@ -5,6 +5,7 @@
 namespace ceilnav::stream {
 
 static_assert(ThreshLut::kEntries == (size_t{1} << kPixelBits), "one entry per grey level");
+static_assert(kLutEntryMask == (1u << ThreshLut::kEntryBits) - 1u, "entry bits");
 
 void ThreshLut::reset() {
   active_q_ = 0;
@@ -13,7 +14,7 @@ void ThreshLut::reset() {
 }
 
 void ThreshLut::write(uint8_t index, LutEntry entry) {
-  bank_[active_q_ ^ 1u][index] = static_cast<LutEntry>(entry & (kLutMaskBit | kLutRemapMask));
+  bank_[active_q_ ^ 1u][index] = static_cast<LutEntry>(entry & kLutEntryMask);
   pending_q_ = true;
 }
 
@@ -22,6 +23,7 @@ void ThreshLut::clock(const PixelBeat& s_pix, bool frame_start) {
   out_q_.pix = s_pix;
   out_q_.remap = static_cast<uint8_t>(entry & kLutRemapMask);
   out_q_.mask = (entry & kLutMaskBit) != 0;
+  out_q_.cls = lut_class(entry);
   if (frame_start) {
     commit_at_frame_start();
   }

@@ -1,5 +1,5 @@
-// thresh_lut: the programmable 256 x 9-bit threshold LUT (bits 7:0 remap,
-// bit 8 mask) with a synchronous read, double-banked so that a frame never
+// thresh_lut: the programmable 256 x 11-bit threshold LUT (bits 7:0 remap,
+// bit 8 mask, bits 10:9 class) with a synchronous read, double-banked so that a frame never
 // sees a half-written table. See docs/blocks/thresh_lut.md.
 #pragma once
 
@@ -17,12 +17,12 @@ namespace ceilnav::stream {
 struct LutWrite {
   bool en = false;
   uint8_t index = 0;
-  LutEntry data = 0;  // bits above bit 8 are ignored
+  LutEntry data = 0;  // bits above bit 10 are ignored
 };
 
 class ThreshLut {
  public:
-  static constexpr int kEntryBits = 9;
+  static constexpr int kEntryBits = 11;
   static constexpr size_t kEntries = 256;
   static constexpr int kLatencyCycles = 1;
 
@@ -34,7 +34,7 @@ class ThreshLut {
   void reset();
 
   // Host write port: writes the shadow (inactive) bank and marks a commit
-  // pending. Bits above bit 8 of entry are ignored.
+  // pending. Bits above bit 10 of entry are ignored.
   void write(uint8_t index, LutEntry entry);
 
   // One rising edge. Samples s_pix, reads the ACTIVE bank at s_pix.grey (the
@@ -60,7 +60,7 @@ class ThreshLut {
   bool commit_pending() const { return pending_q_; }
 
   // Registered output: the input beat delayed by one cycle with the LUT
-  // outputs; remap and mask are 0 on beats with pix.valid = 0.
+  // outputs; remap, mask and cls are 0 on beats with pix.valid = 0.
   const LutBeat& m_lut() const { return out_q_; }
 
  private:

@@ -5,6 +5,7 @@ set(ceilnav_top_sv
     ${CEILNAV_RTL_DIR}/ceilnav_top.sv ${CEILNAV_RTL_DIR}/pipeline.sv
     ${CEILNAV_RTL_DIR}/frame_check.sv ${CEILNAV_RTL_DIR}/thresh_lut.sv
     ${CEILNAV_RTL_DIR}/histogram.sv ${CEILNAV_RTL_DIR}/moment_gen.sv
+    ${CEILNAV_RTL_DIR}/class_moments.sv
     ${CEILNAV_RTL_DIR}/run_fifo.sv ${CEILNAV_RTL_DIR}/run_scanner.sv)
 # verilate() runs Verilator at configure time, before the build generates the
 # include file: in a fresh build tree, generate it now with a configure-time
@@ -52,7 +53,7 @@ endif()
 # Co-simulation: Vceilnav_top against stream::CeilnavTop on every port, every cycle.
 add_executable(cosim_ceilnav_top_test ${CMAKE_CURRENT_LIST_DIR}/cosim_ceilnav_top_test.cpp)
 target_link_libraries(cosim_ceilnav_top_test PRIVATE ceilnav_rtl_top ceilnav_stream ceilnav_regs
-                                                     ceilnav_warnings GTest::gtest
+                                                     ceilnav_golden ceilnav_warnings GTest::gtest
                                                      GTest::gtest_main)
 gtest_discover_tests(cosim_ceilnav_top_test TEST_PREFIX "cosim_ceilnav_top_test."
                      DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")

@@ -9,7 +9,12 @@
 #include <deque>
 #include <vector>
 
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "ceilnav/regs.hpp"
+#include "golden/class_moments_ref.hpp"
+#include "golden/thresh_lut_ref.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
 #include "stream/ceilnav_top.hpp"
@@ -36,16 +41,19 @@ struct BusOp {
   bool sync = false;
 };
 
-// Threshold LUT: remap = grey (or a random table), mask = grey >= threshold.
+// Threshold LUT: remap = grey (or a random table), mask = grey >= threshold,
+// pixel class in grey bands of random width (class_moments).
 std::vector<BusOp> lut_program(Rng& rng, bool sync) {
   std::vector<BusOp> ops;
   ops.push_back({true, r::lut_index::kOffset, 0, 0xF, sync});
   const bool random_remap = rng.chance(0.3);
   const auto threshold = static_cast<uint32_t>(rng.uniform(40, 220));
+  const auto band = static_cast<uint32_t>(rng.uniform(1, 80));
   for (uint32_t g = 0; g < 256; ++g) {
     const uint32_t remap = random_remap ? static_cast<uint32_t>(rng.byte()) : g;
-    const uint32_t data =
-        r::lut_data::kRemap.put(remap) | r::lut_data::kMask.put(g >= threshold ? 1u : 0u);
+    const uint32_t data = r::lut_data::kRemap.put(remap) |
+                          r::lut_data::kMask.put(g >= threshold ? 1u : 0u) |
+                          r::lut_data::kClass.put((g / band) % 4);
     ops.push_back({true, r::lut_data::kOffset, data, 0xF, sync});
   }
   return ops;
@@ -118,6 +126,7 @@ struct Coverage {
   uint64_t slverr = 0;
   uint64_t hist_nonzero = 0;    // HIST_DATA reads with a non-zero bin
   uint64_t run_word_valid = 0;  // RUN_WORD0 reads with VALID = 1
+  uint64_t class_nonzero = 0;   // CLASS_MOM_* reads with a non-zero value
   uint64_t stream_beats = 0;    // m_axis_runs transfers
   uint64_t irq_rises = 0;
   uint64_t soft_resets = 0;
@@ -128,18 +137,23 @@ struct Coverage {
     const uint32_t a = op.addr & r::kAddrMask;
     if (a == r::hist_data::kOffset && rdata != 0) ++hist_nonzero;
     if (a == r::run_word0::kOffset && r::run_word0::kValid.get(rdata) != 0) ++run_word_valid;
+    if ((r::class_mom_lo::kArray.index(a) >= 0 || r::class_mom_hi::kArray.index(a) >= 0) &&
+        rdata != 0) {
+      ++class_nonzero;
+    }
   }
   void print() const {
     std::printf(
         "[cosim] ceilnav_top coverage: %llu frames published, %llu malformed, %llu SLVERR, "
         "%llu non-zero bins read, %llu runs in the register window, %llu stream beats, "
-        "%llu irq rises, %llu soft resets\n",
+        "%llu irq rises, %llu soft resets, %llu non-zero class moment reads\n",
         static_cast<unsigned long long>(frames_published),
         static_cast<unsigned long long>(malformed), static_cast<unsigned long long>(slverr),
         static_cast<unsigned long long>(hist_nonzero),
         static_cast<unsigned long long>(run_word_valid),
         static_cast<unsigned long long>(stream_beats), static_cast<unsigned long long>(irq_rises),
-        static_cast<unsigned long long>(soft_resets));
+        static_cast<unsigned long long>(soft_resets),
+        static_cast<unsigned long long>(class_nonzero));
   }
 };
 
@@ -226,8 +240,18 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
           }
         }
       } else if (pick < 65) {
-        // Run-scanner / histogram configuration, any time (mid-frame too).
-        switch (rng.uniform(0, 3)) {
+        // Run-scanner / histogram / class window configuration, any time
+        // (mid-frame too).
+        switch (rng.uniform(0, 4)) {
+          case 4: {
+            const bool x = rng.chance(0.5);
+            const uint32_t lo = static_cast<uint32_t>(rng.uniform(0, 70));
+            const uint32_t hi =
+                rng.chance(0.2) ? 2048u : static_cast<uint32_t>(rng.uniform(0, 0xFFF));
+            push({true, x ? r::class_win_x::kOffset : r::class_win_y::kOffset, lo | (hi << 16), 0xF,
+                  false});
+            break;
+          }
           case 0:
             push({true, r::background_level::kOffset, static_cast<uint32_t>(rng.uniform(0, 90)),
                   0xF, false});
@@ -390,6 +414,7 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
     EXPECT_GT(cov.run_word_valid, 0u);
     EXPECT_GT(cov.irq_rises, 0u);
     EXPECT_GT(cov.soft_resets, 0u);
+    EXPECT_GT(cov.class_nonzero, 0u);
     EXPECT_GT(cov.stream_beats + cov.run_word_valid, 100u);
   }
 }
@@ -409,6 +434,168 @@ TEST(CeilnavTopCosim, RunSinkRegistersAndOverflow) {
   sc.run_sink_share = 0.9;
   sc.big_frame = false;
   run_scenario(sc, cosim_seed(77));
+}
+
+// ---------------------------------------------------------------------------
+// class_moments at device level: the CLASS_MOM registers read over AXI4-Lite
+// equal cv::moments of each class mask inside the class window, with every
+// port still compared on every cycle (TopCosim).
+class RegBench {
+ public:
+  explicit RegBench(uint64_t seed) : top_(seed, "ceilnav_top_class_moments") {}
+
+  void step() {
+    VideoBeat beat;
+    if (!video_.empty()) {
+      beat = video_.front();
+      video_.pop_front();
+    }
+    top_.step(beat, true);
+  }
+  uint32_t read(uint32_t addr) {
+    top_.master().start_read(addr);
+    wait_bus();
+    EXPECT_EQ(top_.master().resp(), r::kRespOkay) << "read of 0x" << std::hex << addr;
+    return top_.master().rdata();
+  }
+  void write(uint32_t addr, uint32_t data) {
+    top_.master().start_write(addr, data, 0xF);
+    wait_bus();
+    EXPECT_EQ(top_.master().resp(), r::kRespOkay) << "write of 0x" << std::hex << addr;
+  }
+  // A well-formed frame of `img` with tvalid gaps of probability gap_p.
+  void queue_frame(const cv::Mat& img, double gap_p, Rng& rng) {
+    for (int y = 0; y < img.rows; ++y) {
+      for (int x = 0; x < img.cols; ++x) {
+        while (gap_p > 0.0 && rng.chance(gap_p)) video_.push_back(VideoBeat{});
+        VideoBeat b;
+        b.tvalid = true;
+        b.tdata = img.at<uint8_t>(y, x);
+        b.tuser = x == 0 && y == 0;
+        b.tlast = x == img.cols - 1;
+        video_.push_back(b);
+      }
+    }
+  }
+  void drain_video() {
+    while (!video_.empty() && !top_.sim().failed()) step();
+    for (int k = 0; k < stream::CeilnavTop::kEofToIntrCycles + 4; ++k) step();
+  }
+  void set_window(const stream::ClassWindow& w) {
+    write(r::class_win_x::kOffset, r::class_win_x::kX0.put(w.x0) | r::class_win_x::kX1.put(w.x1));
+    write(r::class_win_y::kOffset, r::class_win_y::kY0.put(w.y0) | r::class_win_y::kY1.put(w.y1));
+  }
+  stream::ClassMomentResults read_class_moments() {
+    stream::ClassMomentResults m;
+    for (uint32_t i = 0; i < r::class_mom_lo::kCount; ++i) {
+      m.cls[i / stream::kMomentCount][i % stream::kMomentCount] =
+          read(r::class_mom_lo::kArray.at(i)) |
+          (uint64_t{read(r::class_mom_hi::kArray.at(i))} << 32);
+    }
+    return m;
+  }
+  TopCosim& top() { return top_; }
+
+ private:
+  void wait_bus() {
+    do {
+      step();
+    } while (!top_.master().idle() && !top_.sim().failed());
+  }
+  TopCosim top_;
+  std::deque<VideoBeat> video_;
+};
+
+TEST(CeilnavTopCosim, ClassMomentsThroughRegistersEqualCvMoments) {
+  const uint64_t seed = cosim_seed(0x636c7370);
+  Rng rng(seed);
+  RegBench b(seed);
+  const cv::Mat photo_full =
+      cv::imread("/usr/share/doc/opencv-doc/examples/data/building.jpg", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(photo_full.empty()) << "opencv-doc sample data missing";
+  cv::Mat photo;
+  cv::resize(photo_full, photo, cv::Size(160, 120), 0, 0, cv::INTER_AREA);
+  // Classes by grey band: 0..63 background, 64..127 pattern, 128..191 shadow, 192.. bar.
+  std::array<stream::LutEntry, 256> lut{};
+  for (unsigned g = 0; g < 256; ++g) {
+    lut[g] = stream::lut_entry(static_cast<uint8_t>(g), g > 100, static_cast<uint8_t>(g / 64));
+  }
+  const auto golden_of = [&lut](const cv::Mat& img, const stream::ClassWindow& w) {
+    return golden::class_moments_ref(golden::lut_class_ref(img, lut), w);
+  };
+  const auto random_frame = [&rng](int w, int h) {
+    cv::Mat img(h, w, CV_8UC1);
+    uint8_t v = rng.byte();
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        if (rng.chance(0.1)) v = rng.byte();
+        img.at<uint8_t>(y, x) = v;
+      }
+    }
+    return img;
+  };
+
+  b.write(r::intr_enable::kOffset, r::intr_enable::kFrameDone.mask());
+  b.write(r::width::kOffset, 160);
+  b.write(r::height::kOffset, 120);
+  b.write(r::lut_index::kOffset, 0);
+  for (unsigned g = 0; g < 256; ++g) {
+    const stream::LutEntry e = lut[g];
+    b.write(r::lut_data::kOffset, r::lut_data::kRemap.put(e & stream::kLutRemapMask) |
+                                      r::lut_data::kMask.put((e & stream::kLutMaskBit) != 0) |
+                                      r::lut_data::kClass.put(stream::lut_class(e)));
+  }
+  // Reset value of the window: the whole frame.
+  EXPECT_EQ(b.read(r::class_win_x::kOffset), 2048u << 16);
+  b.write(r::control::kOffset, r::control::kEnable.mask());
+
+  // Frame 0: the photo, whole frame.
+  b.queue_frame(photo, 0.05, rng);
+  b.drain_video();
+  ASSERT_EQ(b.read(r::res_frame_index::kOffset), 0u);
+  const stream::ClassMomentResults want0 = golden_of(photo, stream::ClassWindow{});
+  EXPECT_EQ(b.read_class_moments(), want0);
+  for (int c = 1; c <= stream::kMomentClasses; ++c) EXPECT_GT(want0.of(c)[stream::kM00], 0u) << c;
+
+  // Frame 1 with window A; window B written while it streams applies to frame 2.
+  const stream::ClassWindow win_a{13, 150, 7, 101};
+  const stream::ClassWindow win_b{0, 40, 60, 4095};
+  b.set_window(win_a);
+  const cv::Mat img1 = random_frame(160, 120);
+  const cv::Mat img2 = random_frame(160, 120);
+  b.queue_frame(img1, 0.0, rng);
+  b.queue_frame(img2, 0.1, rng);  // back to back, zero blanking
+  for (int k = 0; k < 500; ++k) b.step();
+  b.set_window(win_b);  // during frame 1
+  // Frame 1 is published while frame 2 streams.
+  while (b.top().model().pipeline().results().frame_index < 1 && !b.top().sim().failed()) b.step();
+  const stream::ClassMomentResults got1 = b.read_class_moments();
+  EXPECT_EQ(b.read(r::res_frame_index::kOffset), 1u) << "frame 2 published during the readout";
+  EXPECT_EQ(got1, golden_of(img1, win_a));
+  b.drain_video();
+  ASSERT_EQ(b.read(r::res_frame_index::kOffset), 2u);
+  EXPECT_EQ(b.read_class_moments(), golden_of(img2, win_b));
+
+  // Tiny frames back to back: moment_gen drops those that end within its
+  // combine; their class sums must not reach the published set.
+  b.write(r::width::kOffset, 3);
+  b.write(r::height::kOffset, 2);
+  const stream::ClassWindow win_c{1, 3, 0, 2};
+  b.set_window(win_c);
+  std::vector<cv::Mat> tiny;
+  for (int f = 0; f < 30; ++f) {
+    tiny.push_back(random_frame(3, 2));
+    b.queue_frame(tiny.back(), 0.0, rng);
+  }
+  b.drain_video();
+  const uint32_t overrun = b.read(r::frames_overrun::kOffset);
+  const uint32_t index = b.read(r::res_frame_index::kOffset);
+  EXPECT_GT(overrun, 20u);
+  ASSERT_GE(index, 3u);
+  ASSERT_LT(index - 3u, tiny.size());
+  EXPECT_EQ(b.read_class_moments(), golden_of(tiny[index - 3u], win_c));
+  EXPECT_FALSE(b.top().sim().failed());
+  b.top().sim().report();
 }
 
 }  // namespace

@@ -197,6 +197,13 @@ void configure(Bench& b, Config& c) {
   c.cfg.min_run_length = rng.uniform_as<uint16_t>(1, 3);
   c.cfg.max_runs_per_row = rng.uniform_as<uint16_t>(1, 8);
   c.cfg.lut = stream::threshold_lut(rng.uniform_as<uint8_t>(90, 200));
+  // Pixel classes in grey bands, and a class window (class_moments).
+  const auto band = rng.uniform_as<unsigned>(20, 90);
+  for (unsigned g = 0; g < 256; ++g) {
+    c.cfg.lut[g] |= stream::lut_entry(0, false, static_cast<uint8_t>((g / band) % 4));
+  }
+  c.cfg.class_window = {rng.uniform_as<uint16_t>(0, 8), rng.uniform_as<uint16_t>(20, 40),
+                        rng.uniform_as<uint16_t>(0, 6), rng.uniform_as<uint16_t>(12, 30)};
   c.gap_p = std::array<double, 3>{0.05, 0.2, 0.5}[rng.index(3)];
   b.set_tready_p(std::array<double, 4>{1.0, 0.7, 0.3, 0.1}[rng.index(4)]);
   b.write(r::intr_enable::kOffset, 0x7);
@@ -206,6 +213,9 @@ void configure(Bench& b, Config& c) {
   b.write(r::min_run_length::kOffset, c.cfg.min_run_length);
   b.write(r::max_runs_per_row::kOffset, c.cfg.max_runs_per_row);
   b.write(r::hist_source::kOffset, 0);
+  const stream::ClassWindow& w = c.cfg.class_window;
+  b.write(r::class_win_x::kOffset, r::class_win_x::kX0.put(w.x0) | r::class_win_x::kX1.put(w.x1));
+  b.write(r::class_win_y::kOffset, r::class_win_y::kY0.put(w.y0) | r::class_win_y::kY1.put(w.y1));
 }
 
 // The whole table into the shadow bank: active from the next SOF.
@@ -215,7 +225,8 @@ void program_lut(Bench& b, const stream::PipelineConfig& cfg) {
     const unsigned e = cfg.lut[g];
     b.write(r::lut_data::kOffset,
             r::lut_data::kRemap.put(e & stream::kLutRemapMask) |
-                r::lut_data::kMask.put((e & stream::kLutMaskBit) != 0 ? 1u : 0u));
+                r::lut_data::kMask.put((e & stream::kLutMaskBit) != 0 ? 1u : 0u) |
+                r::lut_data::kClass.put(stream::lut_class(static_cast<stream::LutEntry>(e))));
   }
 }
 
@@ -230,6 +241,11 @@ void check_published(Bench& b, const stream::PipelineConfig& cfg, const std::vec
   for (uint32_t i = 0; i < stream::kMomentCount; ++i) {
     EXPECT_EQ(b.read64(r::mom_grey_lo::kOffset + 8 * i), want.moments.grey[i]) << "grey m" << i;
     EXPECT_EQ(b.read64(r::mom_mask_lo::kOffset + 8 * i), want.moments.mask[i]) << "mask m" << i;
+  }
+  for (uint32_t i = 0; i < r::class_mom_lo::kCount; ++i) {
+    EXPECT_EQ(b.read64(r::class_mom_lo::kArray.at(i)),
+              want.class_moments.cls[i / stream::kMomentCount][i % stream::kMomentCount])
+        << "class moment " << i;
   }
   EXPECT_EQ(b.read(r::runs_emitted::kOffset), want.run_stats.runs_emitted);
   EXPECT_EQ(b.read(r::runs_dropped_row_limit::kOffset), want.run_stats.runs_dropped_row_limit);

@@ -64,7 +64,7 @@ class ThreshLutBench {
     d.frame_start_i = c.frame_start;
     d.lut_wr_en_i = c.wr.en;
     d.lut_wr_index_i = c.wr.index;
-    d.lut_wr_data_i = c.wr.data & 0x1FFu;  // the port is 9 bits wide
+    d.lut_wr_data_i = c.wr.data & 0x7FFu;  // the port is 11 bits wide
     model_.clock(c.pix, c.frame_start, c.wr);
     sim_.edge();
     compare();
@@ -93,6 +93,7 @@ class ThreshLutBench {
     sim_.check("m_lut_abort_o", d.m_lut_abort_o, o.pix.abort);
     sim_.check("m_lut_remap_o", d.m_lut_remap_o, o.remap);
     sim_.check("m_lut_mask_o", d.m_lut_mask_o, o.mask);
+    sim_.check("m_lut_class_o", d.m_lut_class_o, o.cls);
   }
 
   Cosim<Vthresh_lut> sim_;
@@ -102,7 +103,7 @@ class ThreshLutBench {
 Table random_table(Rng& rng) {
   Table t{};
   for (LutEntry& e : t) {
-    e = rng.uniform_as<LutEntry>(0, 0x1FF);
+    e = rng.uniform_as<LutEntry>(0, 0x7FF);
   }
   return t;
 }
@@ -200,7 +201,7 @@ void add_writes(std::vector<LutCycle>& cycles, size_t from, Rng& rng) {
   if (rng.chance(0.3)) {
     for (size_t i = from; i < cycles.size(); ++i) {
       if (cycles[i].frame_start) {
-        cycles[i].wr = {true, rng.byte(), rng.uniform_as<LutEntry>(0, 0x1FF)};
+        cycles[i].wr = {true, rng.byte(), rng.uniform_as<LutEntry>(0, 0x7FF)};
         break;
       }
     }
@@ -277,7 +278,8 @@ TEST(CosimThreshLut, PhotosWithGammaAndThresholdTables) {
       for (unsigned g = 0; g < 256; ++g) {
         const double gamma = variant == 0 ? 0.5 : 2.2;
         const auto remap = static_cast<uint8_t>(std::lround(255.0 * std::pow(g / 255.0, gamma)));
-        table[g] = stream::lut_entry(remap, g >= (variant == 0 ? 128u : 200u));
+        table[g] = stream::lut_entry(remap, g >= (variant == 0 ? 128u : 200u),
+                                     static_cast<uint8_t>(g * 4 / 256));
       }
       std::vector<LutCycle> cycles;
       for (unsigned g = 0; g < 256; ++g) {
@@ -291,7 +293,8 @@ TEST(CosimThreshLut, PhotosWithGammaAndThresholdTables) {
         const Vthresh_lut& d = bench.sim().dut();
         if (i > frame_begin && d.m_lut_valid_o &&
             (d.m_lut_remap_o != (table[d.m_lut_grey_o] & 0xFF) ||
-             d.m_lut_mask_o != ((table[d.m_lut_grey_o] >> 8) & 1))) {
+             d.m_lut_mask_o != ((table[d.m_lut_grey_o] >> 8) & 1) ||
+             d.m_lut_class_o != stream::lut_class(table[d.m_lut_grey_o]))) {
           bench.sim().fail("RTL lookup differs from the written table");
         }
       }

@@ -21,18 +21,25 @@ struct LutFrame {
   std::vector<uint8_t> grey;   // camera pixel (carried in pix.grey)
   std::vector<uint8_t> remap;  // LUT bits 7:0
   std::vector<uint8_t> mask;   // LUT bit 8, 0/1
+  std::vector<uint8_t> cls{};  // LUT bits 10:9 (PixelClass); empty = all 0
 
   size_t pixels() const { return size_t{width} * height; }
   const uint8_t* remap_row(uint32_t y) const { return remap.data() + size_t{y} * width; }
   const uint8_t* mask_row(uint32_t y) const { return mask.data() + size_t{y} * width; }
+  const uint8_t* cls_row(uint32_t y) const { return cls.data() + size_t{y} * width; }
 
   static LutFrame from_grey(const std::vector<uint8_t>& grey, uint16_t width, uint16_t height,
                             const std::array<LutEntry, 256>& lut) {
-    LutFrame f{width, height, grey, std::vector<uint8_t>(grey.size()),
+    LutFrame f{width,
+               height,
+               grey,
+               std::vector<uint8_t>(grey.size()),
+               std::vector<uint8_t>(grey.size()),
                std::vector<uint8_t>(grey.size())};
     for (size_t i = 0; i < grey.size(); ++i) {
       f.remap[i] = static_cast<uint8_t>(lut[grey[i]] & kLutRemapMask);
       f.mask[i] = (lut[grey[i]] & kLutMaskBit) != 0 ? 1 : 0;
+      f.cls[i] = lut_class(lut[grey[i]]);
     }
     return f;
   }
@@ -66,6 +73,7 @@ inline void append_frame(std::vector<LutBeat>& out, const LutFrame& f, std::mt19
       b.pix.eof = b.pix.eol && y + 1u == f.height;
       b.remap = f.remap[i];
       b.mask = f.mask[i] != 0;
+      b.cls = f.cls.empty() ? uint8_t{0} : f.cls[i];
       out.push_back(b);
       ++sent;
     }

@@ -99,6 +99,19 @@ PipelineConfig random_config(std::mt19937& rng, int w, int h) {
   cfg.min_run_length = static_cast<uint16_t>(1 + byte(rng) % 3);
   cfg.max_runs_per_row = static_cast<uint16_t>(1 + byte(rng) % 12);
   cfg.hist_source_remap = coin(rng);
+  // Pixel classes in grey bands (so that the classes form regions) and a
+  // window: the whole frame or a random one.
+  const auto band = static_cast<unsigned>(1 + byte(rng) / 4);
+  for (unsigned g = 0; g < 256; ++g) {
+    cfg.lut[g] = static_cast<LutEntry>((cfg.lut[g] & ~kLutClassMask) |
+                                       lut_entry(0, false, static_cast<uint8_t>((g / band) % 4)));
+  }
+  if (coin(rng)) {
+    std::uniform_int_distribution<int> xs(0, w + 1);
+    std::uniform_int_distribution<int> ys(0, h + 1);
+    cfg.class_window = {static_cast<uint16_t>(xs(rng)), static_cast<uint16_t>(xs(rng)),
+                        static_cast<uint16_t>(ys(rng)), static_cast<uint16_t>(ys(rng))};
+  }
   return cfg;
 }
 
@@ -118,6 +131,7 @@ void expect_matches_ref(const FrameResults& r, const std::vector<RunRecord>& run
   EXPECT_TRUE(r.valid) << what;
   EXPECT_EQ(r.histogram, ref.histogram) << what;
   EXPECT_EQ(r.moments, ref.moments) << what;
+  EXPECT_EQ(r.class_moments, ref.class_moments) << what;
   EXPECT_EQ(runs, ref.runs) << what;
   EXPECT_EQ(r.run_stats.runs_emitted, ref.runs.size()) << what;
   EXPECT_EQ(r.run_stats.runs_dropped_row_limit, ref.runs_dropped_row_limit) << what;
@@ -350,6 +364,7 @@ TEST(Pipeline, TinyFramesBackToBackArePublishedExactOrCountedAsOverrun) {
       const golden::PipelineRef ref = golden::pipeline_ref(images[r.frame_index], cfg);
       EXPECT_EQ(r.histogram, ref.histogram) << w << "x" << h << " frame " << r.frame_index;
       EXPECT_EQ(r.moments, ref.moments) << w << "x" << h << " frame " << r.frame_index;
+      EXPECT_EQ(r.class_moments, ref.class_moments) << w << "x" << h << " frame " << r.frame_index;
       EXPECT_EQ(r.run_stats.runs_emitted, ref.runs.size());
     }
   }

@@ -18,7 +18,7 @@ namespace {
 using Table = std::array<LutEntry, 256>;
 
 Table random_table(std::mt19937& rng) {
-  std::uniform_int_distribution<int> entry(0, 0x1FF);
+  std::uniform_int_distribution<int> entry(0, 0x7FF);
   Table t{};
   for (LutEntry& e : t) {
     e = static_cast<LutEntry>(entry(rng));
@@ -35,6 +35,7 @@ void write_table(ThreshLut& lut, const Table& t) {
 struct LutFrames {
   std::vector<cv::Mat> remap;
   std::vector<cv::Mat> mask;
+  std::vector<cv::Mat> cls;
 };
 
 // frame_check -> thresh_lut, frame_start = the SOF beat accepted by frame_check.
@@ -47,6 +48,7 @@ LutFrames run_chain(ThreshLut& lut, const std::vector<VideoBeat>& beats, uint16_
   LutFrames out;
   cv::Mat remap;
   cv::Mat mask;
+  cv::Mat cls;
   for (size_t i = 0; i <= beats.size() + 1; ++i) {
     between_beats(i);
     const VideoBeat beat = i < beats.size() ? beats[i] : VideoBeat{};
@@ -62,17 +64,21 @@ LutFrames run_chain(ThreshLut& lut, const std::vector<VideoBeat>& beats, uint16_
     if (!o.pix.valid) {
       EXPECT_EQ(o.remap, 0);
       EXPECT_FALSE(o.mask);
+      EXPECT_EQ(o.cls, 0);
       continue;
     }
     if (o.pix.sof) {
       remap = cv::Mat(h, w, CV_8UC1);
       mask = cv::Mat(h, w, CV_8UC1);
+      cls = cv::Mat(h, w, CV_8UC1);
     }
     remap.at<uchar>(o.pix.y, o.pix.x) = o.remap;
     mask.at<uchar>(o.pix.y, o.pix.x) = o.mask ? 1 : 0;
+    cls.at<uchar>(o.pix.y, o.pix.x) = o.cls;
     if (o.pix.eof) {
       out.remap.push_back(remap.clone());
       out.mask.push_back(mask.clone());
+      out.cls.push_back(cls.clone());
     }
   }
   return out;
@@ -83,24 +89,29 @@ bool same(const cv::Mat& a, const cv::Mat& b) {
 }
 
 void expect_matches_golden(const cv::Mat& grey, const Table& table, const cv::Mat& remap,
-                           const cv::Mat& mask, const ThreshLut& lut_for_fast) {
+                           const cv::Mat& mask, const cv::Mat& cls, const ThreshLut& lut_for_fast) {
   cv::Mat ref_remap;
   cv::Mat ref_mask;
   golden::lut_ref(grey, table, ref_remap, ref_mask);
+  const cv::Mat ref_cls = golden::lut_class_ref(grey, table);
   EXPECT_TRUE(same(remap, ref_remap));
   EXPECT_TRUE(same(mask, ref_mask));
+  EXPECT_TRUE(same(cls, ref_cls));
   // Fast path: lookup in the active bank.
   cv::Mat fast_remap(grey.size(), CV_8UC1);
   cv::Mat fast_mask(grey.size(), CV_8UC1);
+  cv::Mat fast_cls(grey.size(), CV_8UC1);
   for (int y = 0; y < grey.rows; ++y) {
     for (int x = 0; x < grey.cols; ++x) {
       const LutEntry e = lut_for_fast.active_entry(grey.at<uchar>(y, x));
       fast_remap.at<uchar>(y, x) = static_cast<uchar>(e & kLutRemapMask);
       fast_mask.at<uchar>(y, x) = (e & kLutMaskBit) != 0 ? 1 : 0;
+      fast_cls.at<uchar>(y, x) = lut_class(e);
     }
   }
   EXPECT_TRUE(same(fast_remap, ref_remap));
   EXPECT_TRUE(same(fast_mask, ref_mask));
+  EXPECT_TRUE(same(fast_cls, ref_cls));
 }
 
 TEST(ThreshLut, ClockedEqualsFastEqualsGoldenOnRandomImages) {
@@ -116,7 +127,7 @@ TEST(ThreshLut, ClockedEqualsFastEqualsGoldenOnRandomImages) {
     const LutFrames got =
         run_chain(lut, beats, static_cast<uint16_t>(w), static_cast<uint16_t>(h), [](size_t) {});
     ASSERT_EQ(got.remap.size(), 1u);
-    expect_matches_golden(img, table, got.remap[0], got.mask[0], lut);
+    expect_matches_golden(img, table, got.remap[0], got.mask[0], got.cls[0], lut);
   }
 }
 
@@ -137,7 +148,7 @@ TEST(ThreshLut, ClockedEqualsFastEqualsGoldenOnPhotos) {
       const LutFrames got = run_chain(lut, beats, static_cast<uint16_t>(img->cols),
                                       static_cast<uint16_t>(img->rows), [](size_t) {});
       ASSERT_EQ(got.remap.size(), 1u) << name;
-      expect_matches_golden(*img, table, got.remap[0], got.mask[0], lut);
+      expect_matches_golden(*img, table, got.remap[0], got.mask[0], got.cls[0], lut);
     }
   }
   EXPECT_GE(photos, 3) << "opencv-doc photos missing";
@@ -205,17 +216,26 @@ TEST(ThreshLut, ShadowBankAfterASwapHoldsTheOlderTable) {
   EXPECT_EQ(lut.active_table(), expected);
 }
 
-TEST(ThreshLut, WriteIgnoresBitsAboveEight) {
+TEST(ThreshLut, WriteIgnoresBitsAboveTen) {
   ThreshLut lut;
   lut.write(3, 0xFFFF);
   lut.commit_at_frame_start();
-  EXPECT_EQ(lut.active_entry(3), 0x1FF);
+  EXPECT_EQ(lut.active_entry(3), 0x7FF);
   PixelBeat p;
   p.valid = true;
   p.grey = 3;
   lut.clock(p, false);
   EXPECT_EQ(lut.m_lut().remap, 0xFF);
   EXPECT_TRUE(lut.m_lut().mask);
+  EXPECT_EQ(lut.m_lut().cls, kClassBar);
+}
+
+TEST(ThreshLut, ClassFieldIsIndependentOfRemapAndMask) {
+  EXPECT_EQ(lut_entry(0x5A, true, kClassShadow), 0x55A);
+  EXPECT_EQ(lut_class(lut_entry(0xFF, true, kClassPattern)), kClassPattern);
+  EXPECT_EQ(lut_class(lut_entry(0xFF, true)), kClassBackground);  // default class 0
+  EXPECT_EQ(lut_entry(7, false, kClassBar) & kLutRemapMask, 7);
+  EXPECT_EQ(lut_entry(7, false, kClassBar) & kLutMaskBit, 0);
 }
 
 }  // namespace

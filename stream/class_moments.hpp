@@ -1,0 +1,101 @@
+// class_moments: m00 m10 m01 m20 m11 m02 of the binary mask of each pixel
+// class 1..3 (LUT bits 10:9: pattern, shadow, bar) inside a programmable
+// window, all classes at once. Counters and adders only (seed 003, eq. 20-28):
+// the terms 1, x, y, x^2, x y, y^2 of each pixel are formed by increments from
+// the previous pixel's terms and added into the accumulators of its class.
+// See docs/blocks/class_moments.md.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "stream/beat.hpp"
+#include "stream/config.hpp"
+#include "stream/limits.hpp"
+#include "stream/moment_gen.hpp"
+#include "stream/results.hpp"
+
+namespace ceilnav::stream {
+
+namespace class_moments_widths {
+
+// For frames up to 2^k x 2^k (k = kCoordBits) the sums of x^a y^b over a
+// full frame need {2k+1, 3k-1, 3k-1, 4k-1, 4k-2, 4k-1} bits (the RTL derives
+// its widths with these formulas from its CoordBits parameter).
+constexpr std::array<int, kMomentCount> moment_bits(int k) {
+  return {2 * k + 1, 3 * k - 1, 3 * k - 1, 4 * k - 1, 4 * k - 2, 4 * k - 1};
+}
+inline constexpr std::array<int, kMomentCount> kMomentBits = moment_bits(kCoordBits);
+// The same maxima as the mask moments of moment_gen (derived there from the
+// brute-forced sums): a class mask of all ones is the worst case.
+static_assert(kMomentBits == moment_gen_widths::kMaskMomentBits);
+static_assert(kMomentBits == std::array<int, kMomentCount>{23, 32, 32, 43, 42, 43});
+// Pixel terms x^2, x y, y^2 <= (2^k - 1)^2: 2k bits; x, y: k bits; 2x + 1: k + 1.
+inline constexpr int kTermBits = 2 * kCoordBits;
+static_assert(bits_for(uint64_t{kMaxWidth - 1} * (kMaxHeight - 1)) == kTermBits);
+// Window bounds: 0 .. 2^k (one more bit than a coordinate).
+inline constexpr int kWindowBits = kCoordBits + 1;
+
+}  // namespace class_moments_widths
+
+class ClassMoments {
+ public:
+  // Edges from the edge that takes the EOF pixel (e) to the edge that raises
+  // done() (e + 2): terms at e, accumulators at e + 1, results at e + 2.
+  static constexpr int kLatencyCycles = 2;
+
+  ClassMoments() { reset(); }
+
+  // Asynchronous active-low reset: every register to zero, no frame open.
+  void reset();
+
+  // One rising edge. Samples the LutBeat port (pix.*, cls), the window ports
+  // (latched with the SOF pixel: the window of a frame is the one on the
+  // ports at its SOF pixel's edge) and eof_keep (sampled with the EOF pixel:
+  // false discards the frame: no done, results unchanged). Throws
+  // std::logic_error if a pixel position does not follow the previous one
+  // (x + 1 in a row, (0, y + 1) after a row end, (0, 0) at SOF): frame_check
+  // rules that out.
+  void clock(const LutBeat& in, const ClassWindow& win, bool eof_keep = true);
+
+  // Registered outputs.
+  bool done() const { return done_q_; }  // one-cycle pulse: results() just updated
+  const ClassMomentResults& results() const { return results_q_; }
+
+  // Fast frame-at-a-time path, equal to clock()-ing the frame: per row the
+  // sums of 1, x, x^2 per class inside the window, weighted by 1, y, y^2.
+  // Rows may come in any order; cls holds PixelClass codes (0..3).
+  static void accumulate_row(ClassMomentResults& sums, uint32_t y, const uint8_t* cls,
+                             uint32_t width, const ClassWindow& win);
+  // A whole frame (rows stride_bytes apart).
+  static ClassMomentResults frame(const uint8_t* cls, uint32_t width, uint32_t height,
+                                  size_t stride_bytes, const ClassWindow& win);
+
+ private:
+  // Stage 0: frame tracking and the window latched at SOF.
+  bool frame_open_q_ = false;
+  bool row_start_q_ = false;  // the previous taken pixel ended a row
+  ClassWindow win_q_{};
+
+  // Stage 1: the terms of the last taken pixel (they stay until the next one:
+  // the next pixel's terms are increments of them).
+  bool t_valid_q_ = false;  // a pixel was taken on the last edge
+  bool t_start_q_ = false;  // ... and it was the frame's first (SOF)
+  bool t_end_q_ = false;    // ... and it was a kept EOF
+  uint8_t t_cls_q_ = 0;
+  uint32_t t_x_q_ = 0;
+  uint32_t t_y_q_ = 0;
+  uint32_t t_x2_q_ = 0;
+  uint32_t t_xy_q_ = 0;
+  uint32_t t_y2_q_ = 0;
+
+  // Stage 2: one accumulator per class and moment, kept to its RTL width.
+  std::array<std::array<uint64_t, kMomentCount>, kMomentClasses> acc_q_{};
+  bool end_q_ = false;  // the accumulators hold a finished frame
+
+  ClassMomentResults results_q_{};
+  bool done_q_ = false;
+};
+
+}  // namespace ceilnav::stream
