@@ -10,7 +10,15 @@ set(ceilnav_top_sv
 # verilate() runs Verilator at configure time, before the build generates the
 # include file: in a fresh build tree, generate it now with a configure-time
 # build of the same generator (the build-time rule regenerates it from then on).
-if(NOT EXISTS ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh)
+# Also when the map or the generator changed since: Verilator must not see a
+# stale include at configure time (an existing build tree after a merge).
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+             ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp)
+if(NOT EXISTS ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh
+   OR ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json IS_NEWER_THAN
+      ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh
+   OR ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp IS_NEWER_THAN
+      ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh)
   get_target_property(json_inc nlohmann_json::nlohmann_json INTERFACE_INCLUDE_DIRECTORIES)
   set(json_flags "")
   foreach(dir IN LISTS json_inc)
