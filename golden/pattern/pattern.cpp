@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "golden/scene.hpp"
+#include "stream/pipeline.hpp"
 
 namespace ceilnav::golden::pattern {
 namespace {
@@ -23,7 +24,8 @@ constexpr std::array<std::pair<int, int>, kBlockValues> kPairs{
 
 void check_geometry(const PatternGeometry& g) {
   if (!(g.radius_m > 0.0) || !(g.thickness_m >= 0.0) || !(g.bar_unit_m > 0.0) ||
-      !(g.bar_gap_m >= 0.0) || !(g.bar_height_m > 0.0) || !(g.plate_margin_m >= 0.0)) {
+      !(g.rim_m >= 0.0) || !(g.bar_gap_m > g.rim_m) || !(g.bar_gap_m >= 0.0) ||
+      !(g.bar_height_m > 0.0) || !(g.plate_margin_m >= 0.0)) {
     throw std::invalid_argument("pattern geometry: sizes must be positive (T, gaps >= 0)");
   }
 }
@@ -94,6 +96,7 @@ struct Scene {
       cls = PixelClass::pattern;
       return grey(cls, p0);
     }
+    if (r0 <= g.radius_m + g.rim_m) return grey(cls, p0);  // the dark rim of the face
     for (const Rect& b : bars) {
       if (b.contains(p0.x(), p0.y())) {
         cls = PixelClass::bar;
@@ -108,7 +111,8 @@ struct Scene {
     const double a = d.x() * d.x() + d.y() * d.y();
     if (a > 0.0 && g.thickness_m > 0.0) {
       const double b = c.x() * d.x() + c.y() * d.y();
-      const double cc = c.x() * c.x() + c.y() * c.y() - g.radius_m * g.radius_m;
+      const double rc = g.radius_m + g.rim_m;
+      const double cc = c.x() * c.x() + c.y() * c.y() - rc * rc;
       const double disc = b * b - a * cc;
       if (disc >= 0.0) {
         const double t = (-b - std::sqrt(disc)) / a;
@@ -133,9 +137,10 @@ struct Scene {
   double margin(const Eigen::Vector3d& p0, double tan_inc) const {
     const double r0 = std::hypot(p0.x(), p0.y());
     // The side wall projects onto the face plane within R .. R + T tan_inc.
-    double m = r0 <= g.radius_m ? g.radius_m - r0
-                                : std::max(0.0, r0 - g.radius_m - g.thickness_m * tan_inc);
-    if (r0 > g.radius_m && r0 <= g.radius_m + g.thickness_m * tan_inc) m = 0.0;
+    const double rc = g.radius_m + g.rim_m;
+    double m = std::abs(r0 - g.radius_m);
+    if (r0 <= rc) m = std::min(m, rc - r0);
+    if (r0 > rc) m = std::min(m, std::max(0.0, r0 - rc - g.thickness_m * tan_inc));
     for (const Rect& b : bars) m = std::min(m, b.boundary_distance(p0.x(), p0.y()));
     for (const Rect& pl : plates) m = std::min(m, pl.boundary_distance(p0.x(), p0.y()));
     return m;
@@ -234,7 +239,8 @@ ClassThresholds class_thresholds(const Radiometry& r) {
   // (the bar reader fits the resulting edge bias, docs/pattern.md).
   t.bar_below = static_cast<int>(std::lround(bar + (wall - bar) / 3.0));
   t.shadow_from = static_cast<int>(std::lround(0.5 * (wall + shadow)));
-  t.pattern_from = static_cast<int>(std::lround(0.5 * (disc + 0.5 * (wall + shadow))));
+  // The disc borders only the dark rim (wall albedo): the midpoint is unbiased.
+  t.pattern_from = static_cast<int>(std::lround(0.5 * (disc + wall)));
   if (!(t.bar_below < t.shadow_from && t.shadow_from < t.pattern_from)) {
     throw std::invalid_argument("radiometry: class levels too close to separate");
   }
@@ -278,6 +284,22 @@ cv::Mat classify(const cv::Mat& grey, const std::array<uint8_t, 256>& lut) {
   cv::Mat out;
   cv::LUT(grey, table, out);
   return out;
+}
+
+std::vector<stream::RunRecord> bar_runs(const cv::Mat& grey, const Radiometry& r) {
+  if (grey.type() != CV_8UC1) throw std::invalid_argument("bar_runs: needs an 8-bit grey frame");
+  stream::PipelineConfig cfg;
+  cfg.width = static_cast<uint16_t>(grey.cols);
+  cfg.height = static_cast<uint16_t>(grey.rows);
+  cfg.lut = bar_mask_lut(r);
+  cfg.background_level = bar_run_background(r);
+  cfg.min_run_length = 1;
+  cfg.max_runs_per_row = 32;
+  stream::Pipeline pipeline;
+  pipeline.set_config(cfg);
+  std::vector<stream::RunRecord> runs;
+  pipeline.process_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], &runs);
+  return runs;
 }
 
 PatternView look_at(const Eigen::Vector3d& centre, const Eigen::Vector3d& target,
@@ -388,6 +410,7 @@ PatternDatabase load_pattern_database(const std::string& path) {
     PatternGeometry& g = db.geometry;
     g.radius_m = real(geo, "radius_m", g.radius_m, false);
     g.thickness_m = real(geo, "thickness_m", g.thickness_m, false);
+    g.rim_m = real(geo, "rim_m", g.rim_m, false);
     g.bar_unit_m = real(geo, "bar_unit_m", g.bar_unit_m, false);
     g.bar_gap_m = real(geo, "bar_gap_m", g.bar_gap_m, false);
     g.bar_height_m = real(geo, "bar_height_m", g.bar_height_m, false);
@@ -433,6 +456,7 @@ void save_pattern_database(const std::string& path, const PatternDatabase& db) {
     fs << "geometry"
        << "{";
     fs << "radius_m" << db.geometry.radius_m << "thickness_m" << db.geometry.thickness_m;
+    fs << "rim_m" << db.geometry.rim_m;
     fs << "bar_unit_m" << db.geometry.bar_unit_m << "bar_gap_m" << db.geometry.bar_gap_m;
     fs << "bar_height_m" << db.geometry.bar_height_m << "plate_margin_m"
        << db.geometry.plate_margin_m;

@@ -23,6 +23,7 @@
 #include "golden/renderer.hpp"
 #include "host/camera_config.hpp"
 #include "stream/config.hpp"
+#include "stream/run_record.hpp"
 
 namespace ceilnav::golden::pattern {
 
@@ -31,8 +32,11 @@ enum class PixelClass : uint8_t { background = 0, pattern = 1, shadow = 2, bar =
 inline constexpr int kClassCount = 4;
 
 struct PatternGeometry {
-  double radius_m = 0.25;        // R
-  double thickness_m = 0.05;     // T: the disc's stand-off from the wall
+  double radius_m = 0.25;  // R: the white disc
+  // A dark rim (wall albedo) on the face around the disc, so that the disc's
+  // edge borders one grey level everywhere; the cylinder's radius is R + rim.
+  double rim_m = 0.025;
+  double thickness_m = 0.05;     // T: the cylinder's stand-off from the wall
   double bar_unit_m = 0.02;      // u: thin bar = u, thick bar = 2u, start/stop bar = 3u, gap = u
   double bar_gap_m = 0.04;       // from the disc's edge to the inner end of a block
   double bar_height_m = 0.70;    // taller than the diameter (seed §V)
@@ -88,10 +92,9 @@ struct Radiometry {
 };
 
 // The class LUT: grey -> class code. Levels in grey order bar < wall < shadow <
-// disc; thresholds a third of the way from bar to wall, at the midpoint of
-// wall/shadow, and between disc
-// and the mean of wall and shadow for the disc (the disc borders both; the
-// edge bias of the two sides then cancels in the size, see docs/pattern.md).
+// disc; thresholds a third of the way from bar to wall, at the midpoints of
+// wall/shadow and wall/disc (the disc borders only the dark rim, so its
+// thresholded edge is unbiased; docs/pattern.md).
 struct ClassThresholds {
   int bar_below;     // grey < bar_below -> bar
   int shadow_from;   // shadow_from <= grey < pattern_from -> shadow
@@ -106,6 +109,11 @@ std::array<stream::LutEntry, 256> bar_mask_lut(const Radiometry& r);
 uint8_t bar_run_background(const Radiometry& r);
 // cv::LUT of a grey frame through class_lut: CV_8UC1 of class codes.
 cv::Mat classify(const cv::Mat& grey, const std::array<uint8_t, 256>& lut);
+
+// The run records of the bar class of a grey frame, as the device's run
+// scanner emits them with bar_mask_lut (stream::Pipeline's frame-at-a-time
+// path; min run length 1, up to 32 runs per row).
+std::vector<stream::RunRecord> bar_runs(const cv::Mat& grey, const Radiometry& r);
 
 // Camera pose in the pattern frame: X_cam = R (X_pat - C), OpenCV camera axes.
 struct PatternView {
