@@ -44,6 +44,7 @@ struct Analysis {
   std::vector<stream::RunRecord> runs;
   bool disc_cut = false;
   hp::PatternPose conic, moment, projection;
+  hp::PatternPose conic_bars;  // the conic pose refined with the bar edges
   hp::BarcodeRead code;
 };
 
@@ -67,7 +68,9 @@ Analysis analyse(const cv::Mat& grey, const gp::Radiometry& radiometry,
   hp::BarcodeOptions bo;
   bo.bar_contrast =
       radiometry.level(gp::PixelClass::background) - radiometry.level(gp::PixelClass::bar);
+  bo.radius_m = pose_options.radius_m;
   a.code = hp::read_barcode(a.runs, model, grey.cols, bo);
+  a.conic_bars = hp::refine_with_bars(a.conic, a.code.edges, model, pose_options);
   return a;
 }
 
@@ -156,9 +159,9 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
   struct Row {
     double d, theta, beta;
     bool seed_set;     // beta = +-90 deg (the seed's experiments)
-    double err[3][2];  // method (projection, moment, conic) x (D %, theta deg)
-    bool ok[3];
-    bool beta_ok[3];
+    double err[4][2];  // method (projection, moment, conic) x (D %, theta deg)
+    bool ok[4];
+    bool beta_ok[4];
     bool code_visible;
     double bar_px;
     int identity, read;
@@ -186,8 +189,8 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
         hp::PoseOptions po = pose_options_for(geometry);
         po.up_cam = v.rotation.col(1);  // the mount's known tilt (docs/pattern.md)
         const Analysis a = analyse(grey, radiometry, model, po);
-        const hp::PatternPose* poses[3] = {&a.projection, &a.moment, &a.conic};
-        for (int m = 0; m < 3; ++m) {
+        const hp::PatternPose* poses[4] = {&a.projection, &a.moment, &a.conic, &a.conic_bars};
+        for (int m = 0; m < 4; ++m) {
           const hp::PatternPose& q = *poses[m];
           r.ok[m] =
               (q.status == hp::PatternStatus::ok || q.status == hp::PatternStatus::ambiguous) &&
@@ -207,20 +210,21 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
     }
   }
 
-  const char* names[3] = {"projection", "moment", "conic"};
+  const char* names[4] = {"projection", "moment", "conic", "conic+bars"};
   std::printf("ceilnav pattern-accuracy: %zu frames, %dx%d, noise %.1f, blur %.2f px, %s\n",
               rows.size(), o.width, o.height, o.noise_sigma, o.blur_sigma,
               o.distortion ? "distortion" : "no distortion");
   // Table I shape: theta error vs theta (max |error| over D and beta).
   std::printf("\ntheta error (deg) by theta, max |err| over D (projection: beta = +-90 only)\n");
-  std::printf("%8s %12s %12s %12s %12s\n", "theta", "projection", "moment", "conic", "conic rms");
-  std::map<double, std::array<double, 4>> by_theta;
-  std::map<double, std::array<double, 4>> by_d;
+  std::printf("%8s %12s %12s %12s %12s %12s\n", "theta", "projection", "moment", "conic",
+              "conic+bars", "c+b rms");
+  std::map<double, std::array<double, 5>> by_theta;
+  std::map<double, std::array<double, 5>> by_d;
   std::map<double, std::array<int, 2>> counts_theta, counts_d;
   bool bars_ok = true;
   double conic_d_max = 0, conic_theta_max15 = 0;
   for (const Row& r : rows) {
-    for (int m = 0; m < 3; ++m) {
+    for (int m = 0; m < 4; ++m) {
       if (!r.ok[m] || (m == 0 && !r.seed_set)) continue;
       auto& t = by_theta[r.theta];
       t[static_cast<std::size_t>(m)] =
@@ -228,32 +232,33 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
       auto& dd = by_d[r.d];
       dd[static_cast<std::size_t>(m)] =
           std::max(dd[static_cast<std::size_t>(m)], std::abs(r.err[m][0]));
-      if (m == 2) {
-        t[3] += r.err[m][1] * r.err[m][1];
-        dd[3] += r.err[m][0] * r.err[m][0];
+      if (m == 3) {
+        t[4] += r.err[m][1] * r.err[m][1];
+        dd[4] += r.err[m][0] * r.err[m][0];
         ++counts_theta[r.theta][0];
         ++counts_d[r.d][0];
         conic_d_max = std::max(conic_d_max, std::abs(r.err[m][0]));
         if (r.theta >= 15.0) conic_theta_max15 = std::max(conic_theta_max15, std::abs(r.err[m][1]));
       }
     }
-    if (!r.ok[2]) bars_ok = false;
+    if (!r.ok[3]) bars_ok = false;
   }
   for (auto& [th, v] : by_theta) {
-    std::printf("%8.1f %12.3f %12.3f %12.3f %12.3f\n", th, v[0], v[1], v[2],
-                std::sqrt(v[3] / std::max(1, counts_theta[th][0])));
+    std::printf("%8.1f %12.3f %12.3f %12.3f %12.3f %12.3f\n", th, v[0], v[1], v[2], v[3],
+                std::sqrt(v[4] / std::max(1, counts_theta[th][0])));
   }
   std::printf("\ndistance error (%%) by D, max |err| over theta (projection: beta = +-90 only)\n");
-  std::printf("%8s %12s %12s %12s %12s\n", "D (m)", "projection", "moment", "conic", "conic rms");
+  std::printf("%8s %12s %12s %12s %12s %12s\n", "D (m)", "projection", "moment", "conic",
+              "conic+bars", "c+b rms");
   for (auto& [d, v] : by_d) {
-    std::printf("%8.1f %12.3f %12.3f %12.3f %12.3f\n", d, v[0], v[1], v[2],
-                std::sqrt(v[3] / std::max(1, counts_d[d][0])));
+    std::printf("%8.1f %12.3f %12.3f %12.3f %12.3f %12.3f\n", d, v[0], v[1], v[2], v[3],
+                std::sqrt(v[4] / std::max(1, counts_d[d][0])));
   }
-  int beta_frames = 0, beta_resolved[3] = {0, 0, 0};
+  int beta_frames = 0, beta_resolved[4] = {0, 0, 0, 0};
   for (const Row& r : rows) {
     if (r.theta < 15.0 || r.d * std::sin(r.theta * kDeg) < 1.5 * geometry.radius_m) continue;
     ++beta_frames;
-    for (int m = 1; m < 3; ++m) beta_resolved[m] += r.beta_ok[m];
+    for (int m = 1; m < 4; ++m) beta_resolved[m] += r.beta_ok[m];
   }
   int visible = 0, visible_read = 0, wrong = 0, visible_thin = 0;
   for (const Row& r : rows) {
@@ -265,8 +270,10 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
       ++visible_thin;
     }
   }
-  std::printf("\nbeta right (theta >= 15, D sin(theta) >= 1.5 R): moment %d/%d, conic %d/%d\n",
-              beta_resolved[1], beta_frames, beta_resolved[2], beta_frames);
+  std::printf(
+      "\nbeta right (theta >= 15, D sin(theta) >= 1.5 R): moment %d/%d, conic %d/%d, conic+bars "
+      "%d/%d\n",
+      beta_resolved[1], beta_frames, beta_resolved[2], beta_frames, beta_resolved[3], beta_frames);
   std::printf(
       "bar code: read on %d of %d frames with the code in view and thin bars >= 1.5 px; "
       "%d more in view with thinner bars; wrong identities: %d\n",
@@ -274,7 +281,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
   const bool pass = bars_ok && conic_d_max <= 0.3 && conic_theta_max15 <= 0.3 && wrong == 0 &&
                     visible_read == visible;
   std::printf(
-      "bars (conic): max |D err| %.3f %% (<= 0.3), max |theta err| for theta >= 15: %.3f "
+      "bars (conic+bars): max |D err| %.3f %% (<= 0.3), max |theta err| for theta >= 15: %.3f "
       "deg (<= 0.3); identity: %s -> %s\n",
       conic_d_max, conic_theta_max15, (wrong == 0 && visible_read == visible) ? "ok" : "FAIL",
       pass ? "PASS" : "FAIL");
@@ -283,17 +290,17 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
     AtomicFile f(o.csv);
     f.stream() << "d_m,theta_deg,beta_deg,seed_set,identity,read,code_status,code_in_view,"
                   "min_bar_px,proj_d_err_pct,proj_theta_err_deg,moment_d_err_pct,"
-                  "moment_theta_err_deg,conic_d_err_pct,conic_theta_err_deg,moment_beta_ok,"
-                  "conic_beta_ok\n";
+                  "moment_theta_err_deg,conic_d_err_pct,conic_theta_err_deg,bars_d_err_pct,"
+                  "bars_theta_err_deg,moment_beta_ok,conic_beta_ok,bars_beta_ok\n";
     for (const Row& r : rows) {
       f.stream() << r.d << ',' << r.theta << ',' << fmt(r.beta, 3) << ',' << r.seed_set << ','
                  << r.identity << ',' << r.read << ',' << r.code_status << ',' << r.code_visible
                  << ',' << fmt(r.bar_px, 2);
-      for (int m = 0; m < 3; ++m) {
+      for (int m = 0; m < 4; ++m) {
         f.stream() << ',' << (r.ok[m] ? fmt(r.err[m][0], 4) : "") << ','
                    << (r.ok[m] ? fmt(r.err[m][1], 4) : "");
       }
-      f.stream() << ',' << r.beta_ok[1] << ',' << r.beta_ok[2] << '\n';
+      f.stream() << ',' << r.beta_ok[1] << ',' << r.beta_ok[2] << ',' << r.beta_ok[3] << '\n';
     }
     f.commit();
   }
@@ -309,8 +316,8 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
                  true};
     PlotPanel pd{
         "distance error vs D (max over theta = 0..75 deg)", "D (m)", "|D error| (%)", {}, true};
-    const cv::Scalar colours[3] = {{0, 140, 255}, {200, 80, 0}, {0, 160, 0}};
-    for (int m = 0; m < 3; ++m) {
+    const cv::Scalar colours[4] = {{0, 140, 255}, {200, 80, 0}, {0, 160, 0}, {160, 0, 160}};
+    for (int m = 0; m < 4; ++m) {
       PlotSeries st{names[m], {}, {}, colours[m]}, sd{names[m], {}, {}, colours[m]};
       for (auto& [th, v] : by_theta) {
         st.x.push_back(th);
@@ -364,13 +371,13 @@ struct FixRow {
   double x = kNaN, y = kNaN, heading = kNaN;
 };
 
-// One frame's fix: the exact conic pose, the code, the database.
+// One frame's fix: the exact conic pose refined with the bars, the code, the database.
 FixRow make_fix(const Analysis& a, const gp::PatternDatabase& db, const Eigen::Vector3d& up_cam,
                 double pan_rad) {
   FixRow r;
   r.code_status = std::string(hp::to_string(a.code.status));
   r.identity = a.code.identity;
-  const hp::PatternPose& p = a.conic;
+  const hp::PatternPose& p = a.conic_bars;  // the conic pose refined with the bar centres
   const bool pose_ok =
       p.status == hp::PatternStatus::ok || p.status == hp::PatternStatus::ambiguous;
   if (pose_ok) {

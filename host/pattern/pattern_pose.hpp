@@ -125,9 +125,19 @@ struct BarcodeOptions {
   double max_bad_row_fraction = 0.1;  // rows disagreeing with the majority -> unreadable
   double max_fit_residual = 0.12;     // RMS edge residual of the best code, in units
   double min_fit_ratio = 2.0;         // second-best residual / best
+  // Pattern geometry for the edges' pattern-frame x (BarcodeRead::edges).
+  double radius_m = 0.25, bar_gap_m = 0.04, bar_unit_m = 0.02;
   // Run weight of a full bar pixel (plate level - bar level in the LUT remap,
   // golden::pattern::bar_mask_lut); > 0: sub-pixel edges from sum_w, sum_xw.
   double bar_contrast = 0.0;
+};
+// One bar seen on a row: normalised (undistorted) image point of its ink
+// centroid, the bar's pattern-frame x extent, the image row, its width along
+// the row (normalised).
+struct BarEdge {
+  double x, y, x0_m, x1_m;
+  int row;
+  double width;
 };
 struct BarcodeRead {
   PatternStatus status = PatternStatus::no_pattern;  // ok, partial, unreadable, no_pattern
@@ -136,9 +146,20 @@ struct BarcodeRead {
   // partial: where the disc lies along the rows seen from the code: +1 = to
   // the right (a left block seen), -1 = to the left, 0 = unknown.
   int disc_direction = 0;
+  std::vector<BarEdge> edges;  // ok: bar centres of the rows that read the identity
 };
 BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraModel& camera,
                          int image_width, const BarcodeOptions& o = {});
+
+// The conic pose refined with the bar edges (seed §V: the bar codes' known
+// dimensions "for double checking or averaging"): Gauss-Newton on the
+// rotation, translation and the edges' threshold bias, minimising each
+// edge's distance to the image of its pattern line x = x_pat (which fixes
+// everything but the slide along y), with the conic's centre fixing that
+// slide and the conic's normal as a prior. Returns `conic` unchanged unless
+// it is ok or ambiguous and there are >= 48 edges.
+PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> edges,
+                             const CameraModel& camera, const PoseOptions& o);
 
 // Camera position and heading in the world from a pose and the pattern's
 // placement (the pattern frame of golden/pattern/pattern.hpp).

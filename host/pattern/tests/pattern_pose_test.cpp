@@ -262,6 +262,36 @@ TEST(Barcode, CorruptedRunsNeverGiveAWrongIdentity) {
   }
 }
 
+TEST(PatternPoseRendered, BarRefinementIsConsistentWithTheTruth) {
+  // The bar centres of a read code refine the conic pose: at 3-4 m, 15-30
+  // deg (where the conic's theta is worst) the refined pose is within the
+  // bars (measured in docs/pattern.md; bounds, not tuned values).
+  const CameraConfig cam = plain_camera();
+  const CameraModel model(cam);
+  for (double d : {3.0, 4.0}) {
+    for (double th : {15.0, 30.0}) {
+      const gp::PatternView v = gp::spherical_view(d, th * kDeg, 90 * kDeg);
+      const Frame f = render(cam, v, 21, 3.0, static_cast<uint64_t>(d * 7 + th));
+      BarcodeOptions bo = code_options();
+      const BarcodeRead code = read_barcode(f.runs, model, cam.image_width, bo);
+      ASSERT_EQ(code.identity, 21);
+      ASSERT_GE(code.edges.size(), 48u);
+      const PoseOptions o = options_for(v);
+      const PatternPose c = conic_method(f.moments, model, o);
+      const PatternPose b = refine_with_bars(c, code.edges, model, o);
+      EXPECT_NEAR(b.d_m / d - 1.0, 0.0, 0.003) << d << " " << th;
+      EXPECT_NEAR(b.theta_rad / kDeg, th, 0.3) << d << " " << th;
+      EXPECT_TRUE(std::isfinite(b.beta_rad));
+    }
+  }
+  // Too few observations: the conic pose is returned unchanged.
+  const gp::PatternView v = gp::spherical_view(2.0, 20 * kDeg, 90 * kDeg);
+  const Frame f = render(cam, v, 21, 3.0);
+  const PatternPose c = conic_method(f.moments, model, options_for(v));
+  const PatternPose b = refine_with_bars(c, {}, model, options_for(v));
+  EXPECT_EQ(b.d_m, c.d_m);
+}
+
 TEST(WorldFix, RobotPositionAndHeadingFromTheConicPose) {
   const CameraConfig cam = plain_camera();
   const CameraModel model(cam);
