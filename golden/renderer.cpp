@@ -60,12 +60,6 @@ bool undistort_newton(const host::CameraConfig& camera, double xd, double yd, do
 // d(x, y)/d(u, v), so that a sub-sample at offset (a, b) px from the centre has
 // the ray (x, y) + J (a, b) (the local affine approximation).
 
-struct PixelRay {
-  double x, y;
-  double j00, j01, j10, j11;
-  bool valid;
-};
-
 struct RayTable {
   std::vector<PixelRay> rays;  // row-major
   double affine_error_px = 0.0;
@@ -413,6 +407,37 @@ cv::Mat render_float(const host::CameraConfig& camera, const CeilingScene& scene
   RenderStats local_stats;
   cv::Mat image = render_radiance(camera, scene, pose, params, local_stats);
   if (stats != nullptr) *stats = local_stats;
+  finish_render(image, params);
+  return image;
+}
+
+std::shared_ptr<const std::vector<PixelRay>> pixel_rays(const host::CameraConfig& camera,
+                                                        bool distorted) {
+  check_camera(camera);
+  auto table = ray_table(camera, distorted && camera.has_distortion());
+  return {table, &table->rays};
+}
+
+void jittered_offsets(std::size_t pixel_index, int n, double* a, double* b) {
+  const double inv_n = 1.0 / n;
+  uint64_t state =
+      mix64(kJitterSeed ^ (static_cast<uint64_t>(pixel_index) * 0xd1b54a32d192ed03ULL));
+  for (int sy = 0; sy < n; ++sy) {
+    for (int sx = 0; sx < n; ++sx) {
+      state = mix64(state);
+      *a++ = (sx + unit_interval(state)) * inv_n - 0.5;
+      state = mix64(state);
+      *b++ = (sy + unit_interval(state)) * inv_n - 0.5;
+    }
+  }
+}
+
+void finish_render(cv::Mat& image, const RenderParams& params) {
+  if (image.type() != CV_64FC1) throw std::invalid_argument("finish_render: needs CV_64FC1");
+  if (!(params.blur_sigma_px >= 0.0) || !(params.noise_sigma_grey >= 0.0) ||
+      !std::isfinite(params.background_grey)) {
+    throw std::invalid_argument("render: blur and noise sigmas must be >= 0, grey levels finite");
+  }
   image += cv::Scalar(params.background_grey);
   if (params.blur_sigma_px > 0.0) {
     // Kernel to +-5 sigma: the truncated tail weighs < 1e-6.
@@ -435,7 +460,6 @@ cv::Mat render_float(const host::CameraConfig& camera, const CeilingScene& scene
       }
     }
   }
-  return image;
 }
 
 cv::Mat render_frame(const host::CameraConfig& camera, const CeilingScene& scene,

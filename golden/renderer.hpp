@@ -5,9 +5,12 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <vector>
 
 #include "golden/scene.hpp"
 #include "host/camera_config.hpp"
@@ -35,6 +38,31 @@ struct RenderStats {
   int64_t edge_pixels = 0;        // footprint crosses an edge: N x N jittered samples
   int64_t samples = 0;            // ray-ceiling evaluations in total
 };
+
+// The ray through a pixel centre in normalised undistorted coordinates (x, y)
+// and its Jacobian d(x, y)/d(u, v): a sub-sample at offset (a, b) px from the
+// centre has the ray (x + j00 a + j01 b, y + j10 a + j11 b) (local affine
+// approximation, error bounded by affine_undistortion_error_px). valid = false
+// where the distortion model folds over.
+struct PixelRay {
+  double x, y;
+  double j00, j01, j10, j11;
+  bool valid;
+};
+
+// The rays of every pixel centre, row-major (cached per camera; shared with the
+// tape renderer). distorted = false: the pinhole rays K^-1 (u, v, 1).
+std::shared_ptr<const std::vector<PixelRay>> pixel_rays(const host::CameraConfig& camera,
+                                                        bool distorted);
+
+// The n x n jittered-stratified sub-pixel offsets (a[k], b[k] in [-0.5, 0.5))
+// that the tape renderer uses for pixel `pixel_index` (row-major index): a
+// fixed function of the index, so frames are reproducible. a, b hold n*n.
+void jittered_offsets(std::size_t pixel_index, int n, double* a, double* b);
+
+// What render_float does after the radiance: adds params.background_grey, the
+// Gaussian blur and the counter-based Gaussian noise, in place (CV_64FC1).
+void finish_render(cv::Mat& image, const RenderParams& params);
 
 // Normalised undistorted coordinates (x, y) = (X/Z, Y/Z) of the ray through a
 // distorted pixel position: the inverse of OpenCV's distortion model, by Newton

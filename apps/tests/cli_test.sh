@@ -32,7 +32,7 @@ expect_error() {
   ok "$name"
 }
 
-for cmd in "" demo run render accuracy profile; do
+for cmd in "" demo run render accuracy profile pattern pattern-accuracy; do
   if $CEILNAV $cmd --help >"$work/help.txt" 2>&1 && grep -q -- "--" "$work/help.txt"; then
     ok "help ${cmd:-top}"
   else
@@ -289,6 +289,48 @@ else
   expect_error "profile unwritable out" "writable" "$work/empty/p" -- profile --count 1 --out "$work/empty/p"
 fi
 chmod u+w "$work/empty"
+
+# pattern: the built-in station scene (pan, find, read, centre, verify), then
+# its frames again through --frames, then bad arguments and files.
+pat=$work/pat
+if $CEILNAV pattern --out "$pat" --quiet >"$work/pat.log" 2>&1; then ok "pattern exit 0"; else bad "pattern exit 0" "$(cat "$work/pat.log")"; fi
+pheader=$(head -1 "$pat/pattern.csv" 2>/dev/null)
+for col in d_m theta_deg beta_deg identity status x_m y_m heading_deg; do
+  if tr ',' '\n' <<<"$pheader" | grep -qx "$col"; then ok "pattern column $col"; else bad "pattern column $col"; fi
+done
+if grep -q ',ok,7,ok,' "$pat/pattern.csv" 2>/dev/null && [ -s "$pat/overlay.png" ]; then
+  ok "pattern verified station 7 with overlay"
+else
+  bad "pattern verified station 7 with overlay"
+fi
+if grep -q "verified" "$work/pat.log"; then ok "pattern summary"; else bad "pattern summary"; fi
+pout=$work/pout
+if $CEILNAV pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$pat/patterns.yaml" \
+    --out "$pout" --quiet 2>"$work/pout.err" && grep -q ',ok,7,ok,' "$pout/pattern.csv"; then
+  ok "pattern --frames round trip"
+else
+  bad "pattern --frames round trip" "$(cat "$work/pout.err")"
+fi
+pbad2=$work/pbad2
+expect_error "pattern frames without scene" "scene" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --database "$pat/patterns.yaml" --out "$pbad2"
+expect_error "pattern scene without frames" "with --frames" "$pbad2/pattern.csv" -- pattern --scene "$pat/scene.yaml" --out "$pbad2"
+expect_error "pattern missing database" "database" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$work/nope.yaml" --out "$pbad2"
+printf '%%YAML:1.0\npatterns:\n  - { identity: 99, x_m: 1, y_m: 2, z_m: 1, facing_deg: 0 }\n' >"$work/db_bad_id.yaml"
+expect_error "pattern database identity out of range" "identity" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$work/db_bad_id.yaml" --out "$pbad2"
+printf '%%YAML:1.0\npatterns:\n  - { identity: 3, x_m: 1, y_m: 2 }\n' >"$work/db_no_z.yaml"
+expect_error "pattern database missing key" "missing key z_m" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$work/db_no_z.yaml" --out "$pbad2"
+printf 'not yaml at all: [\n' >"$work/db_garbage.yaml"
+expect_error "pattern database garbage" "database" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$work/db_garbage.yaml" --out "$pbad2"
+mkdir -p "$work/pempty"
+expect_error "pattern empty frames folder" "no PNG" "$pbad2/pattern.csv" -- pattern --frames "$work/pempty" --scene "$pat/scene.yaml" --database "$pat/patterns.yaml" --out "$pbad2"
+mkdir -p "$work/psmall"; cp "$frames/frame_0000.png" "$work/psmall/"
+sed 's/image_width: 640/image_width: 320/' "$pat/scene.yaml" >"$work/scene320.yaml"
+expect_error "pattern frame size mismatch" "size|width|320" "$pbad2/pattern.csv" -- pattern --frames "$work/psmall" --scene "$work/scene320.yaml" --database "$pat/patterns.yaml" --out "$pbad2"
+expect_error "pattern negative noise" "noise" "" -- pattern --noise -1 --out "$pbad2"
+expect_error "pattern without out" "out" "" -- pattern
+expect_error "pattern-accuracy width" "width" "" -- pattern-accuracy --width 10
+expect_error "pattern-accuracy noise" "noise" "" -- pattern-accuracy --noise -2
+expect_error "pattern-accuracy csv folder missing" "writable|folder|exist" "$work/nodir/p.csv" -- pattern-accuracy --csv "$work/nodir/p.csv"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,0 +1,34 @@
+// `ceilnav pattern` and `ceilnav pattern-accuracy`: seed 003's standard pattern
+// (docs/pattern.md).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace ceilnav::app {
+
+struct PatternOptions {
+  std::string out_dir;     // CSV + overlay PNG (+ rendered frames for the built-in scene)
+  std::string frames_dir;  // recorded frames instead of the built-in scene
+  std::string scene_file;  // camera YAML (with --frames)
+  std::string database;    // pattern database YAML (with --frames; built-in scene: written)
+  double noise_sigma = 3.0;
+  uint64_t seed = 1;
+  bool quiet = false;
+};
+int run_pattern(const PatternOptions& o);
+
+struct PatternAccuracyOptions {
+  int width = 640, height = 480;
+  double noise_sigma = 3.0;
+  double blur_sigma = 0.5;
+  bool distortion = true;
+  int betas = 2;  // co-azimuth samples per (D, theta) besides the seed's +-90 deg
+  uint64_t seed = 1;
+  std::string csv;       // per-frame errors, optional
+  std::string plot;      // PNG of the error curves, optional
+  bool require = false;  // exit 1 unless the bars hold (docs/pattern.md)
+};
+int run_pattern_accuracy(const PatternAccuracyOptions& o);
+
+}  // namespace ceilnav::app

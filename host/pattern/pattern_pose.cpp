@@ -1,0 +1,807 @@
+#include "host/pattern/pattern_pose.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+namespace ceilnav::host::pattern {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double wrap_pi(double a) {
+  return std::remainder(a, 2.0 * kPi);
+}
+
+// Pattern frame (x right, y up, z toward the viewer) of the circle pose
+// (centre c, normal n toward the camera) given the world vertical in camera
+// coordinates: columns x_p, y_p, z_p in camera coordinates.
+std::optional<Eigen::Matrix3d> pattern_axes_cam(const Eigen::Vector3d& n,
+                                                const Eigen::Vector3d& up) {
+  Eigen::Vector3d y = up - up.dot(n) * n;
+  if (!(y.norm() > 1e-9)) return std::nullopt;
+  y.normalize();
+  Eigen::Matrix3d a;
+  a.col(0) = y.cross(n);
+  a.col(1) = y;
+  a.col(2) = n;
+  return a;
+}
+
+// D, theta, beta of the camera from the circle pose (camera at the origin).
+void spherical_from_pose(const Eigen::Vector3d& c, const Eigen::Matrix3d& axes, PatternPose& p) {
+  const Eigen::Vector3d cam = axes.transpose() * (-c);  // camera in the pattern frame
+  p.d_m = cam.norm();
+  p.theta_rad = std::acos(std::clamp(cam.z() / p.d_m, -1.0, 1.0));
+  p.beta_rad = std::atan2(cam.x(), cam.y());
+}
+
+// Image offset (normalised) of the shadow's centroid from the disc's centroid.
+std::optional<Eigen::Vector2d> shadow_offset(const FrameMoments& m, const CameraModel& camera,
+                                             const Ellipse& disc, const PoseOptions& o) {
+  const ClassMoments& s = m[kShadow];
+  if (s.m00 < o.min_shadow_pixels) return std::nullopt;
+  const Eigen::Vector2d sc =
+      camera.normalise(static_cast<double>(s.m10) / static_cast<double>(s.m00),
+                       static_cast<double>(s.m01) / static_cast<double>(s.m00));
+  const Eigen::Vector2d off(sc.x() - disc.cx, sc.y() - disc.cy);
+  if (!(off.norm() >= o.min_shadow_offset * disc.b)) return std::nullopt;
+  return off;
+}
+
+// Resolve beta between psi and psi - pi (eq. 13-14) by the shadow side: with
+// the swing removed the shadow lies toward (sin beta, -cos beta) in the image.
+void resolve_beta_by_shadow(const FrameMoments& m, const CameraModel& camera, const PoseOptions& o,
+                            double psi, PatternPose& p) {
+  const auto off = shadow_offset(m, camera, p.ellipse, o);
+  p.beta_rad = wrap_pi(psi - o.swing_rad);  // candidate l = 0
+  if (!off) {
+    p.beta_resolved = false;
+    p.status = p.theta_rad > o.small_theta_rad ? PatternStatus::ambiguous : PatternStatus::ok;
+    return;
+  }
+  // Rotate the offset into the swing-free image.
+  const double cs = std::cos(o.swing_rad), sn = std::sin(o.swing_rad);
+  const Eigen::Vector2d d(cs * off->x() + sn * off->y(), -sn * off->x() + cs * off->y());
+  const double b0 = wrap_pi(psi - o.swing_rad);
+  const double score = d.x() * std::sin(b0) - d.y() * std::cos(b0);
+  p.beta_rad = score >= 0.0 ? b0 : wrap_pi(b0 - kPi);
+  p.beta_resolved = true;
+  p.status = PatternStatus::ok;
+}
+
+// Centre and normal in camera coordinates from D, theta, beta, for a camera
+// that looks at the disc centre along the ellipse centre's ray (moment and
+// projection methods).
+void fill_camera_frame(const Ellipse& e, const PoseOptions& o, PatternPose& p) {
+  const Eigen::Vector3d ray = Eigen::Vector3d(e.cx, e.cy, 1.0).normalized();
+  p.centre_cam = p.d_m * ray;
+  // The normal makes theta with the ray back to the camera; its tilt
+  // direction is beta from the up vector around that ray.
+  const Eigen::Vector3d back = -ray;
+  Eigen::Vector3d up = o.up_cam - o.up_cam.dot(back) * back;
+  if (up.norm() < 1e-9) return;
+  up.normalize();
+  const Eigen::Vector3d right = up.cross(back);  // x_p for a frontal view
+  // Camera seen from the disc at (sin t sin b, sin t cos b, cos t) in (x_p, y_p, z_p):
+  // the normal is the rotation of `back` that makes this true.
+  const double st = std::sin(p.theta_rad), ct = std::cos(p.theta_rad);
+  const double sb = std::sin(p.beta_rad), cb = std::cos(p.beta_rad);
+  p.normal_cam = (ct * back - st * (sb * right + cb * up)).normalized();
+}
+
+}  // namespace
+
+std::string_view to_string(PatternStatus s) {
+  switch (s) {
+    case PatternStatus::ok:
+      return "ok";
+    case PatternStatus::no_pattern:
+      return "no_pattern";
+    case PatternStatus::partial:
+      return "partial";
+    case PatternStatus::unreadable:
+      return "unreadable";
+    case PatternStatus::ambiguous:
+      return "ambiguous";
+    case PatternStatus::degenerate:
+      return "degenerate";
+    case PatternStatus::unknown_pattern:
+      return "unknown_pattern";
+  }
+  return "unknown";
+}
+
+FrameMoments class_moments(const uint8_t* classes, int width, int height, std::size_t stride) {
+  FrameMoments m{};
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* row = classes + static_cast<std::size_t>(y) * stride;
+    std::array<int64_t, kClasses> n{}, sx{}, sxx{};
+    for (int x = 0; x < width; ++x) {
+      const unsigned c = row[x];
+      if (c >= kClasses) continue;
+      ++n[c];
+      sx[c] += x;
+      sxx[c] += static_cast<int64_t>(x) * x;
+    }
+    for (std::size_t c = 0; c < kClasses; ++c) {
+      m[c].m00 += n[c];
+      m[c].m10 += sx[c];
+      m[c].m01 += n[c] * y;
+      m[c].m20 += sxx[c];
+      m[c].m11 += sx[c] * y;
+      m[c].m02 += n[c] * static_cast<int64_t>(y) * y;
+    }
+  }
+  return m;
+}
+
+Extents class_extents(const uint8_t* classes, int width, int height, std::size_t stride, int cls) {
+  Extents e{width, -1, height, -1};
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* row = classes + static_cast<std::size_t>(y) * stride;
+    for (int x = 0; x < width; ++x) {
+      if (row[x] != cls) continue;
+      e.u_min = std::min(e.u_min, x);
+      e.u_max = std::max(e.u_max, x);
+      e.v_min = std::min(e.v_min, y);
+      e.v_max = std::max(e.v_max, y);
+    }
+  }
+  if (e.u_max < 0) return Extents{};
+  return e;
+}
+
+namespace {
+
+// Centroid and covariance (pixels) -> normalised: the centroid through the
+// model, the covariance through the Jacobian of the undistortion there
+// (central differences, 1 px).
+bool to_normalised(const CameraModel& camera, double u, double v, const Eigen::Matrix2d& cov_px,
+                   Eigen::Vector2d& c, Eigen::Matrix2d& cov) {
+  c = camera.normalise(u, v);
+  Eigen::Matrix2d jac;
+  jac.col(0) = 0.5 * (camera.normalise(u + 1.0, v) - camera.normalise(u - 1.0, v));
+  jac.col(1) = 0.5 * (camera.normalise(u, v + 1.0) - camera.normalise(u, v - 1.0));
+  cov = jac * cov_px * jac.transpose();
+  return cov.allFinite() && c.allFinite();
+}
+
+// Area, centroid and central second moments (pixels) of the region bounded by
+// the lens-distorted image of the ellipse (c, cov) given in normalised
+// coordinates: a 720-gon through the model, moments by Green's theorem.
+bool distorted_region_moments(const CameraModel& camera, const Eigen::Vector2d& c,
+                              const Eigen::Matrix2d& cov, double& u, double& v,
+                              Eigen::Matrix2d& cov_px) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  if (!(es.eigenvalues()(0) > 0.0)) return false;
+  const Eigen::Vector2d ax0 = 2.0 * std::sqrt(es.eigenvalues()(0)) * es.eigenvectors().col(0);
+  const Eigen::Vector2d ax1 = 2.0 * std::sqrt(es.eigenvalues()(1)) * es.eigenvectors().col(1);
+  constexpr int kVertices = 720;
+  std::array<Eigen::Vector2d, kVertices> p;
+  for (int k = 0; k < kVertices; ++k) {
+    const double t = 2.0 * kPi * k / kVertices;
+    p[static_cast<std::size_t>(k)] =
+        camera.distort_to_pixel(c + std::cos(t) * ax1 + std::sin(t) * ax0);
+    if (!p[static_cast<std::size_t>(k)].allFinite()) return false;
+  }
+  // Moments about the first vertex's neighbourhood (the mean) for precision.
+  Eigen::Vector2d o = Eigen::Vector2d::Zero();
+  for (const auto& q : p) o += q;
+  o /= kVertices;
+  double a = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+  for (int k = 0; k < kVertices; ++k) {
+    const Eigen::Vector2d p0 = p[static_cast<std::size_t>(k)] - o;
+    const Eigen::Vector2d p1 = p[static_cast<std::size_t>((k + 1) % kVertices)] - o;
+    const double cr = p0.x() * p1.y() - p1.x() * p0.y();
+    a += cr;
+    sx += cr * (p0.x() + p1.x());
+    sy += cr * (p0.y() + p1.y());
+    sxx += cr * (p0.x() * p0.x() + p0.x() * p1.x() + p1.x() * p1.x());
+    syy += cr * (p0.y() * p0.y() + p0.y() * p1.y() + p1.y() * p1.y());
+    sxy += cr * (p0.x() * p1.y() + 2.0 * p0.x() * p0.y() + 2.0 * p1.x() * p1.y() + p1.x() * p0.y());
+  }
+  a *= 0.5;
+  if (!(std::abs(a) > 0.0)) return false;
+  const double mx = sx / (6.0 * a), my = sy / (6.0 * a);
+  cov_px(0, 0) = sxx / (12.0 * a) - mx * mx;
+  cov_px(1, 1) = syy / (12.0 * a) - my * my;
+  cov_px(0, 1) = cov_px(1, 0) = sxy / (24.0 * a) - mx * my;
+  u = mx + o.x();
+  v = my + o.y();
+  return cov_px.allFinite();
+}
+
+}  // namespace
+
+std::optional<Ellipse> ellipse_from_moments(const ClassMoments& m, const CameraModel& camera) {
+  if (m.m00 < 5) return std::nullopt;
+  const double n = static_cast<double>(m.m00);
+  const double u = static_cast<double>(m.m10) / n, v = static_cast<double>(m.m01) / n;
+  // Eq. 30-32 (divided by mu00): central second moments in pixels^2, plus
+  // Sheppard's 1/12 px^2: the moments of pixel centres are those of the
+  // region less the spread of one pixel (docs/pattern.md).
+  const double c20 = static_cast<double>(m.m20) / n - u * u + 1.0 / 12.0;
+  const double c11 = static_cast<double>(m.m11) / n - u * v;
+  const double c02 = static_cast<double>(m.m02) / n - v * v + 1.0 / 12.0;
+  Eigen::Matrix2d cov_px;
+  cov_px << c20, c11, c11, c02;
+  Eigen::Vector2d c;
+  Eigen::Matrix2d cov;
+  if (!to_normalised(camera, u, v, cov_px, c, cov)) return std::nullopt;
+  if (camera.has_distortion()) {
+    // The disc's image is an ellipse in undistorted coordinates, not in
+    // pixels: refine (c, cov) until the distorted image of that ellipse has
+    // the measured pixel moments (fixed point; the affine map above is the
+    // first step).
+    const Eigen::Vector2d c_meas = c;
+    const Eigen::Matrix2d cov_meas = cov;
+    for (int iteration = 0; iteration < 6; ++iteration) {
+      double pu = 0, pv = 0;
+      Eigen::Matrix2d pcov;
+      Eigen::Vector2d pc;
+      Eigen::Matrix2d pcn;
+      if (!distorted_region_moments(camera, c, cov, pu, pv, pcov)) break;
+      if (!to_normalised(camera, pu, pv, pcov, pc, pcn)) break;
+      c += c_meas - pc;
+      cov += cov_meas - pcn;
+      if ((c_meas - pc).norm() < 1e-12 && (cov_meas - pcn).norm() < 1e-14) break;
+    }
+  }
+  // Eq. 17-18: b, a = 2 sqrt(eigenvalues) (the seed's form divided by mu00 / 2).
+  const double tr = cov(0, 0) + cov(1, 1);
+  const double disc = std::hypot(cov(0, 0) - cov(1, 1), 2.0 * cov(0, 1));
+  const double l1 = 0.5 * (tr + disc), l2 = 0.5 * (tr - disc);
+  if (!(l2 > 0.0)) return std::nullopt;
+  Ellipse e;
+  e.cx = c.x();
+  e.cy = c.y();
+  e.b = 2.0 * std::sqrt(l1);
+  e.a = 2.0 * std::sqrt(l2);
+  e.cov = cov;
+  // Minor axis direction: eigenvector of l2.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  const Eigen::Vector2d minor = es.eigenvectors().col(0);
+  double psi = std::atan2(minor.x(), -minor.y());  // from image up toward +x
+  psi = std::fmod(psi + 2.0 * kPi, kPi);
+  e.psi = psi;
+  return e;
+}
+
+PatternPose moment_method(const FrameMoments& m, const CameraModel& camera, const PoseOptions& o) {
+  PatternPose p;
+  if (m[kDisc].m00 < o.min_disc_pixels) return p;
+  const auto e = ellipse_from_moments(m[kDisc], camera);
+  if (!e) {
+    p.status = PatternStatus::degenerate;
+    return p;
+  }
+  p.ellipse = *e;
+  p.d_m = o.radius_m / e->b;                                   // eq. 6
+  p.theta_rad = std::acos(std::clamp(e->a / e->b, 0.0, 1.0));  // eq. 10
+  // Eq. 13 (psi = beta) holds only for beta in {0, +-90, 180} deg: the minor
+  // axis is the image of the wall normal, whose image angle obeys
+  // tan(psi) = tan(beta) / cos(theta) (docs/seed_errata.md). Inverted here.
+  const double psi_wall = std::atan2(std::cos(p.theta_rad) * std::sin(e->psi), std::cos(e->psi));
+  resolve_beta_by_shadow(m, camera, o, std::fmod(psi_wall + 2.0 * kPi, kPi), p);  // eq. 13-14
+  fill_camera_frame(*e, o, p);
+  return p;
+}
+
+PatternPose projection_method(const Extents& disc, const FrameMoments& m, const CameraModel& camera,
+                              const PoseOptions& o) {
+  PatternPose p;
+  if (disc.empty() || m[kDisc].m00 < o.min_disc_pixels) return p;
+  const auto e = ellipse_from_moments(m[kDisc], camera);
+  if (!e) {
+    p.status = PatternStatus::degenerate;
+    return p;
+  }
+  p.ellipse = *e;
+  // Pixel counts of the projections (eq. 39, 49): N = max - min + 1.
+  const double nb = disc.v_max - disc.v_min + 1, na = disc.u_max - disc.u_min + 1;
+  const double b = 0.5 * nb / camera.fy(), a = 0.5 * na / camera.fx();
+  p.d_m = o.radius_m / b;                                // eq. 40
+  p.theta_rad = std::acos(std::clamp(a / b, 0.0, 1.0));  // eq. 49; a > b clips to 0
+  p.ellipse.a = a;
+  p.ellipse.b = b;
+  // beta = +-90 deg: the shadow's side along x (Section IV).
+  const auto off = shadow_offset(m, camera, p.ellipse, o);
+  if (!off) {
+    p.beta_rad = kPi / 2;
+    p.beta_resolved = false;
+    p.status = p.theta_rad > o.small_theta_rad ? PatternStatus::ambiguous : PatternStatus::ok;
+  } else {
+    p.beta_rad = off->x() >= 0.0 ? kPi / 2 : -kPi / 2;
+    p.beta_resolved = true;
+    p.status = PatternStatus::ok;
+  }
+  fill_camera_frame(*e, o, p);
+  return p;
+}
+
+Eigen::Matrix3d conic_from_ellipse(const Ellipse& e) {
+  // Uniform ellipse {x : (x - c)^T M (x - c) <= 1} has covariance M^-1 / 4.
+  const Eigen::Matrix2d mm = (4.0 * e.cov).inverse();
+  const Eigen::Vector2d c(e.cx, e.cy);
+  Eigen::Matrix3d q;
+  q.topLeftCorner<2, 2>() = mm;
+  q.topRightCorner<2, 1>() = -mm * c;
+  q.bottomLeftCorner<1, 2>() = (-mm * c).transpose();
+  q(2, 2) = c.dot(mm * c) - 1.0;
+  return q;
+}
+
+std::vector<CirclePose> circle_poses_from_conic(const Eigen::Matrix3d& q_in, double r) {
+  std::vector<CirclePose> out;
+  if (!q_in.allFinite() || !(r > 0.0)) return out;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (q_in + q_in.transpose()));
+  Eigen::Vector3d lam = es.eigenvalues();  // ascending
+  Eigen::Matrix3d v = es.eigenvectors();
+  // Two eigenvalues of one sign, one of the other: make two positive.
+  int positive = 0;
+  for (int k = 0; k < 3; ++k) positive += lam[k] > 0.0;
+  if (positive == 1) {
+    lam = -lam;
+    lam = Eigen::Vector3d(lam[2], lam[1], lam[0]);
+    v = Eigen::Matrix3d(v.rowwise().reverse());
+  } else if (positive != 2) {
+    return out;
+  }
+  // Now lam ascending: lam[0] < 0 < lam[1] <= lam[2]. Name l1 >= l2 > 0 > l3.
+  const double l1 = lam[2], l2 = lam[1], l3 = lam[0];
+  if (!(l3 < 0.0 && l2 > 0.0)) return out;
+  const Eigen::Vector3d e1 = v.col(2), e2 = v.col(1), e3 = v.col(0);
+  // In the eigenbasis the cone is l1 x^2 + l2 y^2 + l3 z^2 = 0; Q - l2 I
+  // factors into the planes sqrt(l1 - l2) x = +-sqrt(l2 - l3) z, and a plane
+  // parallel to one of them cuts the cone in a circle (docs/pattern.md).
+  const double g = std::sqrt(std::max(0.0, l1 - l2)), h = std::sqrt(l2 - l3);
+  for (int sign : {1, -1}) {
+    if (sign == -1 && g == 0.0) break;  // frontal circle: one solution
+    const Eigen::Vector3d a(g * sign, 0.0, -h), b(g * sign, 0.0, h);
+    // Plane a . X = 1 (eigenbasis): on the cone, l2 |X|^2 = -(a . X)(b . X) =
+    // -(b . X): the sphere |X|^2 + (b . X) / l2 = 0, centre s = -b / (2 l2).
+    const Eigen::Vector3d s = -b / (2.0 * l2);
+    const double an2 = a.squaredNorm();
+    const Eigen::Vector3d centre1 = s + ((1.0 - a.dot(s)) / an2) * a;
+    const double dist2 = std::pow(1.0 - a.dot(s), 2) / an2;
+    const double r1sq = s.squaredNorm() - dist2;
+    if (!(r1sq > 0.0)) continue;
+    double k = r / std::sqrt(r1sq);  // scale of the plane a . X = k
+    Eigen::Vector3d centre = k * centre1;
+    const Eigen::Vector3d centre_cam =
+        v.col(2) * 0.0 + e1 * centre.x() + e2 * centre.y() + e3 * centre.z();
+    Eigen::Vector3d c = centre_cam;
+    if (c.z() < 0.0) c = -c;  // the other nappe: the circle in front of the camera
+    Eigen::Vector3d n = (e1 * a.x() + e2 * a.y() + e3 * a.z()).normalized();
+    if (n.dot(c) > 0.0) n = -n;  // toward the camera
+    out.push_back({c, n});
+  }
+  return out;
+}
+
+PatternPose conic_method(const FrameMoments& m, const CameraModel& camera, const PoseOptions& o) {
+  PatternPose p;
+  if (m[kDisc].m00 < o.min_disc_pixels) return p;
+  const auto e = ellipse_from_moments(m[kDisc], camera);
+  if (!e) {
+    p.status = PatternStatus::degenerate;
+    return p;
+  }
+  p.ellipse = *e;
+  const auto poses = circle_poses_from_conic(conic_from_ellipse(*e), o.radius_m);
+  if (poses.empty()) {
+    p.status = PatternStatus::degenerate;
+    return p;
+  }
+  // For each solution: the predicted image offset of the side wall's middle
+  // (rim point toward the camera, half-way back to the wall) from the disc's
+  // image centroid; keep the one that points like the measured shadow.
+  const auto off = shadow_offset(m, camera, *e, o);
+  std::size_t best = 0;
+  double best_score = -2.0;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    const Eigen::Vector3d& c = poses[k].centre;
+    const Eigen::Vector3d& n = poses[k].normal;
+    Eigen::Vector3d toward = -c - (-c).dot(n) * n;
+    double score = 0.0;
+    if (toward.norm() > 1e-12 && off) {
+      toward.normalize();
+      const Eigen::Vector3d s = c + (o.radius_m + o.rim_m) * toward - 0.5 * o.thickness_m * n;
+      const Eigen::Vector2d pred(s.x() / s.z() - e->cx, s.y() / s.z() - e->cy);
+      score = pred.norm() > 0.0 ? pred.dot(*off) / (pred.norm() * off->norm()) : 0.0;
+    }
+    if (score > best_score) {
+      best_score = score;
+      best = k;
+    }
+  }
+  const CirclePose& cp = poses[best];
+  p.centre_cam = cp.centre;
+  p.normal_cam = cp.normal;
+  const auto axes = pattern_axes_cam(cp.normal, o.up_cam);
+  if (!axes) {
+    p.status = PatternStatus::degenerate;
+    return p;
+  }
+  spherical_from_pose(cp.centre, *axes, p);
+  const bool two = poses.size() == 2;
+  p.beta_resolved = !two || (off.has_value() && best_score > 0.0);
+  p.status = p.beta_resolved || p.theta_rad <= o.small_theta_rad ? PatternStatus::ok
+                                                                 : PatternStatus::ambiguous;
+  return p;
+}
+
+// ------------------------------------------------------------------ bar code
+
+namespace {
+
+constexpr int kBarsPerBlock = 6;
+constexpr std::array<std::pair<int, int>, 10> kPairs{
+    {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {1, 2}, {1, 3}, {1, 4}, {2, 3}, {2, 4}, {3, 4}}};
+
+// Edge positions in units from the block's outer end (wide bar first), 12 edges.
+std::array<double, 2 * kBarsPerBlock> block_edges(int value) {
+  std::array<double, 2 * kBarsPerBlock> e{};
+  e[0] = 0.0;
+  e[1] = 3.0;
+  double x = 3.0;
+  for (int k = 0; k < 5; ++k) {
+    const auto [i, j] = kPairs[static_cast<std::size_t>(value)];
+    const int w = (k == i || k == j) ? 2 : 1;
+    x += 1.0;
+    e[static_cast<std::size_t>(2 + 2 * k)] = x;
+    x += w;
+    e[static_cast<std::size_t>(3 + 2 * k)] = x;
+  }
+  return e;
+}
+
+// Least-squares fit of measured edges u (left, right alternating, image order)
+// to model positions X (same order) by u = (a X + b) / (c X + 1) + s delta,
+// s = +1 on left edges, -1 on right edges (threshold bias). Returns the RMS
+// residual in units of the model (divided by the local scale du/dX).
+double fit_residual(const std::array<double, 12>& u, const std::array<double, 12>& x) {
+  Eigen::Matrix<double, 12, 4> a;
+  Eigen::Matrix<double, 12, 1> rhs;
+  for (int k = 0; k < 12; ++k) {
+    const double s = (k % 2 == 0) ? 1.0 : -1.0;
+    a(k, 0) = x[static_cast<std::size_t>(k)];
+    a(k, 1) = 1.0;
+    a(k, 2) = -x[static_cast<std::size_t>(k)] * u[static_cast<std::size_t>(k)];
+    a(k, 3) = s;
+    rhs(k) = u[static_cast<std::size_t>(k)];
+  }
+  const Eigen::Vector4d p = a.colPivHouseholderQr().solve(rhs);
+  double sum = 0.0, scale = 0.0;
+  for (int k = 0; k < 12; ++k) {
+    const double xk = x[static_cast<std::size_t>(k)];
+    const double den = p(2) * xk + 1.0;
+    if (!(std::abs(den) > 1e-6)) return 1e9;
+    const double pred = (p(0) * xk + p(1)) / den + ((k % 2 == 0) ? 1.0 : -1.0) * p(3);
+    sum += std::pow(pred - u[static_cast<std::size_t>(k)], 2);
+    scale += std::abs((p(0) - p(1) * p(2)) / (den * den));  // du/dX
+  }
+  scale /= 12.0;
+  if (!(scale > 0.0) || !std::isfinite(sum)) return 1e9;
+  return std::sqrt(sum / 12.0) / scale;
+}
+
+struct BlockRead {
+  bool ok = false;
+  bool left_type = false;  // wide bar on the left in the image
+  int value = -1;
+};
+
+BlockRead decode_block(const std::array<double, 12>& u, const BarcodeOptions& o) {
+  double best = 1e18, second = 1e18;
+  BlockRead r;
+  for (int type = 0; type < 2; ++type) {
+    for (int v = 0; v < 10; ++v) {
+      const auto e = block_edges(v);
+      std::array<double, 12> x{};
+      if (type == 0) {
+        x = e;  // left block: outer end on the left, image order = model order
+      } else {
+        // Right block: outer end on the right; image order left to right is
+        // the model reversed, with left/right edges swapped.
+        for (int k = 0; k < 12; ++k)
+          x[static_cast<std::size_t>(k)] = -e[static_cast<std::size_t>(11 - k)];
+      }
+      const double res = fit_residual(u, x);
+      if (res < best) {
+        second = best;
+        best = res;
+        r.left_type = type == 0;
+        r.value = v;
+      } else if (res < second) {
+        second = res;
+      }
+    }
+  }
+  r.ok = best <= o.max_fit_residual && second >= o.min_fit_ratio * best;
+  return r;
+}
+
+}  // namespace
+
+BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraModel& camera,
+                         int image_width, const BarcodeOptions& o) {
+  BarcodeRead out;
+  if (runs.empty()) return out;
+  std::map<int, std::vector<const stream::RunRecord*>> rows;
+  for (const auto& r : runs) rows[r.row].push_back(&r);
+  std::map<int, int> votes;
+  std::map<int, std::vector<BarEdge>> row_edges;
+  int left_seen = 0, right_seen = 0, any_block = 0;
+  for (auto& [row, rs] : rows) {
+    std::sort(rs.begin(), rs.end(),
+              [](const auto* a, const auto* b) { return a->x_start < b->x_start; });
+    // Edges in normalised x along the row; runs touching the border are cut.
+    std::vector<std::array<double, 2>> bars;
+    std::vector<std::array<Eigen::Vector2d, 2>> points;
+    std::vector<bool> cut;
+    for (const auto* r : rs) {
+      // Sub-pixel edges from the run's ink: centre sum(x w) / sum(w), width
+      // sum(w) / contrast (w = the bar's darkness below the plate); the
+      // integer bounds when no contrast is configured.
+      double u0 = r->x_start - 0.5, u1 = r->x_end + 0.5;
+      if (o.bar_contrast > 0.0 && r->sum_w > 0) {
+        const double centre = static_cast<double>(r->sum_xw) / static_cast<double>(r->sum_w);
+        const double width = static_cast<double>(r->sum_w) / o.bar_contrast;
+        u0 = centre - 0.5 * width;
+        u1 = centre + 0.5 * width;
+      }
+      const Eigen::Vector2d l = camera.normalise(u0, row);
+      const Eigen::Vector2d rr = camera.normalise(u1, row);
+      bars.push_back({l.x(), rr.x()});
+      points.push_back({l, rr});
+      cut.push_back(r->x_start == 0 || r->x_end + 1 >= image_width);
+    }
+    // Split into blocks at gaps much larger than the median gap.
+    std::vector<double> gaps;
+    for (std::size_t k = 1; k < bars.size(); ++k) gaps.push_back(bars[k][0] - bars[k - 1][1]);
+    std::vector<std::pair<std::size_t, std::size_t>> groups;  // [first, last]
+    if (!gaps.empty()) {
+      std::vector<double> sorted = gaps;
+      std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                       sorted.end());
+      const double med = sorted[sorted.size() / 2];
+      std::size_t first = 0;
+      for (std::size_t k = 0; k < gaps.size(); ++k) {
+        if (gaps[k] > 3.0 * med) {
+          groups.emplace_back(first, k);
+          first = k + 1;
+        }
+      }
+      groups.emplace_back(first, bars.size() - 1);
+    }
+    std::vector<BlockRead> blocks;
+    std::vector<std::size_t> block_first;
+    for (const auto& [first, last] : groups) {
+      if (last - first + 1 != kBarsPerBlock) continue;
+      bool any_cut = false;
+      for (std::size_t k = first; k <= last; ++k) any_cut = any_cut || cut[k];
+      if (any_cut) continue;
+      std::array<double, 12> u{};
+      for (std::size_t k = 0; k < kBarsPerBlock; ++k) {
+        u[2 * k] = bars[first + k][0];
+        u[2 * k + 1] = bars[first + k][1];
+      }
+      const BlockRead b = decode_block(u, o);
+      if (b.ok) {
+        blocks.push_back(b);
+        block_first.push_back(first);
+      }
+    }
+    if (blocks.empty()) continue;
+    ++any_block;
+    if (blocks.size() == 2 && blocks[0].left_type && !blocks[1].left_type) {
+      const int left = blocks[0].value, right = blocks[1].value;
+      const int low = right / 2;
+      if (right % 2 == (left + low) % 2) {
+        const int id = left * 5 + low;
+        ++votes[id];
+        ++out.full_rows;
+        // Bar centres (sum(x w) / sum(w): unbiased by the threshold and by
+        // the ink-width estimate) with their pattern-frame x, kept for the
+        // identity chosen below.
+        const double u = o.bar_unit_m;
+        const double outer = o.radius_m + o.bar_gap_m + 15.0 * u;
+        for (int blk = 0; blk < 2; ++blk) {
+          const auto e = block_edges(blocks[static_cast<std::size_t>(blk)].value);
+          for (std::size_t k = 0; k < 6; ++k) {
+            const auto& pts = points[block_first[static_cast<std::size_t>(blk)] + k];
+            const Eigen::Vector2d mid = 0.5 * (pts[0] + pts[1]);
+            const double x0 = blk == 0 ? -outer + e[2 * k] * u : outer - e[11 - 2 * k] * u;
+            const double x1 = blk == 0 ? -outer + e[2 * k + 1] * u : outer - e[10 - 2 * k] * u;
+            row_edges[id].push_back({mid.x(), mid.y(), x0, x1, row, pts[1].x() - pts[0].x()});
+          }
+        }
+      } else {
+        ++out.bad_rows;
+      }
+    } else if (blocks.size() == 1) {
+      ++out.partial_rows;
+      (blocks[0].left_type ? left_seen : right_seen)++;
+    } else {
+      ++out.bad_rows;  // inconsistent block order or count
+    }
+  }
+  if (out.full_rows > 0) {
+    auto best = std::max_element(votes.begin(), votes.end(),
+                                 [](const auto& a, const auto& b) { return a.second < b.second; });
+    const int agree = best->second;
+    const int disagree = out.full_rows - agree + out.bad_rows;
+    if (agree >= o.min_full_rows && disagree <= o.max_bad_row_fraction * (agree + disagree)) {
+      out.status = PatternStatus::ok;
+      out.identity = best->first;
+      // Rows at the ends of the bars are partly covered: left out.
+      std::vector<BarEdge>& all = row_edges[best->first];
+      int first_row = 1 << 30, last_row = -1;
+      for (const BarEdge& e : all) {
+        first_row = std::min(first_row, e.row);
+        last_row = std::max(last_row, e.row);
+      }
+      for (const BarEdge& e : all) {
+        if (e.row > first_row + 2 && e.row < last_row - 2) out.edges.push_back(e);
+      }
+      return out;
+    }
+    out.status = PatternStatus::unreadable;
+    return out;
+  }
+  if (left_seen + right_seen > 0) {
+    out.status = PatternStatus::partial;
+    out.disc_direction = left_seen > right_seen ? 1 : (right_seen > left_seen ? -1 : 0);
+    return out;
+  }
+  out.status = any_block > 0 || out.bad_rows > 0 || !rows.empty() ? PatternStatus::unreadable
+                                                                  : PatternStatus::no_pattern;
+  return out;
+}
+
+PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> edges,
+                             const CameraModel& camera, const PoseOptions& o) {
+  if ((conic.status != PatternStatus::ok && conic.status != PatternStatus::ambiguous) ||
+      edges.size() < 48) {
+    return conic;
+  }
+  const auto axes0 = pattern_axes_cam(conic.normal_cam, o.up_cam);
+  if (!axes0) return conic;
+  const double f = std::sqrt(camera.fx() * camera.fy());
+  const double sigma_edge = 0.15 / f;  // normalised units
+  const double sigma_slide = 0.003 * conic.centre_cam.norm();
+  const double sigma_normal = 1.0 * kPi / 180.0;
+  const Eigen::Vector3d c0 = conic.centre_cam, n0 = conic.normal_cam;
+  Eigen::Matrix3d a = *axes0;
+  Eigen::Vector3d t = c0;
+  double bias = 0.0;  // metres: a common shift along x (pattern printing offset)
+  const std::size_t n_res = edges.size() + 5;
+  std::vector<double> weight(edges.size(), 1.0);
+  // Bars narrower than 2 px are left out: their gaps are about as narrow, so
+  // the run's one-pixel margin takes in the neighbours' ink and biases the
+  // centroid (measured: up to 0.6 % in D at 3 m, 67.5 deg).
+  std::vector<double> inv_sigma(edges.size());
+  std::size_t used = 0;
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const bool wide = edges[i].width * f >= 2.0;
+    inv_sigma[i] = wide ? 1.0 / sigma_edge : 0.0;
+    used += wide;
+  }
+  if (used < 48) return conic;
+  auto residuals = [&](const Eigen::Matrix3d& aa, const Eigen::Vector3d& tt, double bb,
+                       Eigen::VectorXd& r) {
+    r.resize(static_cast<Eigen::Index>(n_res));
+    const Eigen::Vector3d a1 = aa.col(0), a2 = aa.col(1), a3 = aa.col(2);
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      const BarEdge& e = edges[i];
+      // The ink centroid along the row is the midpoint of the bar's two
+      // projected edges (not the projection of its centre line): the mean
+      // of the signed distances to the two edge lines vanishes there.
+      double d = 0.0;
+      for (const double xe : {e.x0_m, e.x1_m}) {
+        const Eigen::Vector3d l = (tt + (xe + bb) * a1).cross(a2);
+        const double norm = std::hypot(l.x(), l.y());
+        d += norm > 0.0 ? 0.5 * (l.x() * e.x + l.y() * e.y + l.z()) / norm : 0.0;
+      }
+      r(static_cast<Eigen::Index>(i)) = weight[i] * d * inv_sigma[i];
+    }
+    const auto k = static_cast<Eigen::Index>(edges.size());
+    r(k) = (tt - c0).dot(a2) / sigma_slide;
+    r.segment<3>(k + 1) = (a3 - n0) / sigma_normal;
+    r(k + 4) = bb / 1e-4;  // a shift along x is a translation along a1: pinned
+  };
+  auto apply = [](const Eigen::Matrix3d& aa, const Eigen::Vector3d& tt, double bb,
+                  const Eigen::Matrix<double, 7, 1>& d, Eigen::Matrix3d& a2, Eigen::Vector3d& t2,
+                  double& b2) {
+    const Eigen::Vector3d w = d.head<3>();
+    const double angle = w.norm();
+    a2 = angle > 0.0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, w / angle) * aa) : aa;
+    t2 = tt + d.segment<3>(3);
+    b2 = bb + d(6);
+  };
+  Eigen::VectorXd r0, r1;
+  for (int iteration = 0; iteration < 12; ++iteration) {
+    residuals(a, t, bias, r0);
+    // Robust: down-weight edges beyond 3 sigma (once per iteration).
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      const double ri = std::abs(r0(static_cast<Eigen::Index>(i))) / weight[i];
+      weight[i] = ri > 3.0 ? 3.0 / ri : 1.0;
+    }
+    residuals(a, t, bias, r0);
+    Eigen::MatrixXd jac(static_cast<Eigen::Index>(n_res), 7);
+    const double steps[7] = {1e-6, 1e-6, 1e-6, 1e-6 * t.norm(), 1e-6 * t.norm(), 1e-6 * t.norm(),
+                             1e-6};
+    for (int j = 0; j < 7; ++j) {
+      Eigen::Matrix<double, 7, 1> d = Eigen::Matrix<double, 7, 1>::Zero();
+      d(j) = steps[j];
+      Eigen::Matrix3d a2;
+      Eigen::Vector3d t2;
+      double b2 = 0.0;
+      apply(a, t, bias, d, a2, t2, b2);
+      residuals(a2, t2, b2, r1);
+      jac.col(j) = (r1 - r0) / steps[j];
+    }
+    Eigen::Matrix<double, 7, 7> h = jac.transpose() * jac;
+    h.diagonal() *= 1.0 + 1e-9;
+    const Eigen::Matrix<double, 7, 1> g = jac.transpose() * r0;
+    const Eigen::Matrix<double, 7, 1> delta = -h.ldlt().solve(g);
+    if (!delta.allFinite()) return conic;
+    apply(a, t, bias, delta, a, t, bias);
+    if (delta.head<3>().norm() < 1e-10 && delta.segment<3>(3).norm() < 1e-10 * t.norm()) break;
+  }
+  if (!a.allFinite() || !t.allFinite() || !(t.z() > 0.0)) return conic;
+  // A fit that wandered far from the conic pose is not trusted.
+  if (std::abs(t.norm() / c0.norm() - 1.0) > 0.05 ||
+      a.col(2).dot(n0) < std::cos(5.0 * kPi / 180.0)) {
+    return conic;
+  }
+  PatternPose p = conic;
+  p.centre_cam = t;
+  p.normal_cam = a.col(2);
+  spherical_from_pose(t, a, p);
+  return p;
+}
+
+WorldFix world_fix(const PatternPose& pose, const Placement& placement,
+                   const Eigen::Vector3d& up_cam) {
+  WorldFix f;
+  const double st = std::sin(pose.theta_rad);
+  const Eigen::Vector3d cam_pat =
+      pose.d_m * Eigen::Vector3d(st * std::sin(pose.beta_rad), st * std::cos(pose.beta_rad),
+                                 std::cos(pose.theta_rad));
+  const Eigen::Vector3d z(std::cos(placement.facing_rad), std::sin(placement.facing_rad), 0.0);
+  const Eigen::Vector3d y(0.0, 0.0, 1.0);
+  Eigen::Matrix3d axes;
+  axes.col(0) = y.cross(z);
+  axes.col(1) = y;
+  axes.col(2) = z;
+  const Eigen::Vector3d w =
+      Eigen::Vector3d(placement.x_m, placement.y_m, placement.z_m) + axes * cam_pat;
+  f.x_m = w.x();
+  f.y_m = w.y();
+  f.z_m = w.z();
+  // TRIAD: (direction to the disc, up) in the camera <-> (-cam_pat, y_p) in
+  // the pattern frame gives the camera's rotation; its forward axis in the
+  // world gives the yaw.
+  auto triad = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    Eigen::Matrix3d t;
+    t.col(0) = a.normalized();
+    t.col(1) = a.cross(b).normalized();
+    t.col(2) = t.col(0).cross(t.col(1));
+    return t;
+  };
+  const Eigen::Matrix3d tc = triad(pose.centre_cam, up_cam);
+  const Eigen::Matrix3d tp = triad(-cam_pat, Eigen::Vector3d::UnitY());
+  const Eigen::Matrix3d pat_from_cam = tp * tc.transpose();
+  const Eigen::Vector3d fwd = axes * (pat_from_cam * Eigen::Vector3d::UnitZ());
+  f.camera_yaw_rad = std::atan2(fwd.y(), fwd.x());
+  if (!std::isfinite(f.camera_yaw_rad)) f.camera_yaw_rad = 0.0;
+  return f;
+}
+
+}  // namespace ceilnav::host::pattern

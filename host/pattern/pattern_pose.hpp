@@ -1,0 +1,178 @@
+// Host maths of seed 003's standard pattern (docs/pattern.md): the disc's
+// ellipse from class moments (eq. 17-19, 29-32), the pose (D, theta, beta) by
+// the seed's moment method (eq. 6, 10, 13-14), its projection method
+// (beta = +-90 deg, extents of the projections) and the exact pose of a circle
+// from its image conic; the beta ambiguity resolved by the side of the shadow;
+// the bar-code reader on the run records; the robot's position from the
+// pattern database. Every failure is a status, never a NaN.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "host/camera_model.hpp"
+#include "stream/run_record.hpp"
+
+namespace ceilnav::host::pattern {
+
+// Pixel classes (the hardware's fixed codes).
+inline constexpr int kBackground = 0, kDisc = 1, kShadow = 2, kBar = 3, kClasses = 4;
+
+// Raw moments of one class's mask, sums over the pixels (x = column, y = row)
+// of x^a y^b: what the class-moment block delivers (and cv::moments of the
+// 0/1 mask with binaryImage = true, exactly).
+struct ClassMoments {
+  int64_t m00 = 0, m10 = 0, m01 = 0;
+  int64_t m20 = 0, m11 = 0, m02 = 0;
+  friend bool operator==(const ClassMoments&, const ClassMoments&) = default;
+};
+using FrameMoments = std::array<ClassMoments, kClasses>;
+// The moments of every class of a class image (CV_8UC1 of codes 0..3), exact
+// in 64-bit integers (tools and tests; the hardware supplies the same numbers).
+FrameMoments class_moments(const uint8_t* classes, int width, int height, std::size_t stride);
+
+// Bounding box of a class's pixels (the seed's projections), inclusive.
+struct Extents {
+  int u_min = 0, u_max = -1, v_min = 0, v_max = -1;
+  bool empty() const { return u_max < u_min; }
+};
+Extents class_extents(const uint8_t* classes, int width, int height, std::size_t stride, int cls);
+
+enum class PatternStatus {
+  ok,
+  no_pattern,       // no disc (and no bars)
+  partial,          // the disc or the code is cut by the image border
+  unreadable,       // bars seen but no identity can be read consistently
+  ambiguous,        // beta's two-way ambiguity not resolved (no usable shadow)
+  degenerate,       // the ellipse cannot be solved
+  unknown_pattern,  // identity read but not in the database
+};
+std::string_view to_string(PatternStatus s);
+
+// An ellipse in normalised (undistorted) coordinates: centre, semi-axes
+// a <= b, and psi = angle of the minor axis from image "up" (-y) toward +x,
+// in [0, pi) (seed Fig. 2, eq. 19).
+struct Ellipse {
+  double cx = 0, cy = 0, a = 0, b = 0, psi = 0;
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();  // second central moments / m00
+};
+// Eq. 29-32 (with Sheppard's 1/12 px^2) then eq. 17-19 on the moments mapped
+// to normalised coordinates: the centroid through the camera model, the
+// covariance through the local Jacobian of the undistortion, refined with a
+// distortion present until the lens image of the ellipse has the measured
+// moments (docs/pattern.md).
+std::optional<Ellipse> ellipse_from_moments(const ClassMoments& m, const CameraModel& camera);
+
+struct PatternPose {
+  PatternStatus status = PatternStatus::no_pattern;
+  double d_m = 0, theta_rad = 0, beta_rad = 0;
+  bool beta_resolved = false;
+  // Disc centre and face normal (toward the camera) in camera coordinates;
+  // the moment and projection methods fill them from D, theta, beta.
+  Eigen::Vector3d centre_cam = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal_cam = Eigen::Vector3d::UnitZ();
+  Ellipse ellipse;
+};
+
+struct PoseOptions {
+  double radius_m = 0.25;
+  double rim_m = 0.025;  // dark rim: the side wall's radius is R + rim
+  double thickness_m = 0.05;
+  int min_disc_pixels = 50;
+  // Shadow: offset of its centroid from the disc's, relative to b, needed to
+  // decide beta; below it beta stays unresolved (status ambiguous when
+  // theta > small_theta_rad, else ok: beta is then meaningless).
+  double min_shadow_offset = 0.02;
+  int min_shadow_pixels = 8;
+  double small_theta_rad = 0.05;
+  // World vertical ("up") in camera coordinates, for beta of the conic method
+  // (the mount's tilt and swing). Default: camera level, no swing.
+  Eigen::Vector3d up_cam{0.0, -1.0, 0.0};
+  // Known swing (rad) subtracted from the moment method's beta (eq. 70).
+  double swing_rad = 0.0;
+};
+
+// The seed's moment method: D = R / b (eq. 6, f = 1 in normalised units),
+// theta = arccos(a / b) (eq. 10), beta from psi (eq. 13-14) and the shadow.
+// Assumes the optical axis through the disc centre and R sin(theta) << D.
+PatternPose moment_method(const FrameMoments& m, const CameraModel& camera, const PoseOptions& o);
+// The seed's projection method (Section IV, VII): beta = +-90 deg; a and b
+// from the horizontal and vertical extents of the disc.
+PatternPose projection_method(const Extents& disc, const FrameMoments& m, const CameraModel& camera,
+                              const PoseOptions& o);
+// Exact: the image conic of the disc (from its moments), the two circle poses
+// of that cone with radius R, the one whose predicted side-wall image matches
+// the shadow's side. No centring and no R sin(theta) << D assumption.
+PatternPose conic_method(const FrameMoments& m, const CameraModel& camera, const PoseOptions& o);
+
+// The two poses (centre, unit normal toward the camera) of a circle of radius
+// r whose image is the conic q (3x3 symmetric, [x y 1] q [x y 1]^T = 0 in
+// normalised coordinates). Empty when q is not a real ellipse.
+struct CirclePose {
+  Eigen::Vector3d centre, normal;
+};
+std::vector<CirclePose> circle_poses_from_conic(const Eigen::Matrix3d& q, double r);
+Eigen::Matrix3d conic_from_ellipse(const Ellipse& e);
+
+// Bar-code reader on the run records (mask = bar class), docs/pattern.md.
+struct BarcodeOptions {
+  int min_full_rows = 3;              // rows with both blocks decoded
+  double max_bad_row_fraction = 0.1;  // rows disagreeing with the majority -> unreadable
+  double max_fit_residual = 0.12;     // RMS edge residual of the best code, in units
+  double min_fit_ratio = 2.0;         // second-best residual / best
+  // Pattern geometry for the edges' pattern-frame x (BarcodeRead::edges).
+  double radius_m = 0.25, bar_gap_m = 0.04, bar_unit_m = 0.02;
+  // Run weight of a full bar pixel (plate level - bar level in the LUT remap,
+  // golden::pattern::bar_mask_lut); > 0: sub-pixel edges from sum_w, sum_xw.
+  double bar_contrast = 0.0;
+};
+// One bar seen on a row: normalised (undistorted) image point of its ink
+// centroid, the bar's pattern-frame x extent, the image row, its width along
+// the row (normalised).
+struct BarEdge {
+  double x, y, x0_m, x1_m;
+  int row;
+  double width;
+};
+struct BarcodeRead {
+  PatternStatus status = PatternStatus::no_pattern;  // ok, partial, unreadable, no_pattern
+  int identity = -1;
+  int full_rows = 0, partial_rows = 0, bad_rows = 0;
+  // partial: where the disc lies along the rows seen from the code: +1 = to
+  // the right (a left block seen), -1 = to the left, 0 = unknown.
+  int disc_direction = 0;
+  std::vector<BarEdge> edges;  // ok: bar centres of the rows that read the identity
+};
+BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraModel& camera,
+                         int image_width, const BarcodeOptions& o = {});
+
+// The conic pose refined with the bar edges (seed §V: the bar codes' known
+// dimensions "for double checking or averaging"): Gauss-Newton on the
+// rotation, translation and the edges' threshold bias, minimising each
+// edge's distance to the image of its pattern line x = x_pat (which fixes
+// everything but the slide along y), with the conic's centre fixing that
+// slide and the conic's normal as a prior. Returns `conic` unchanged unless
+// it is ok or ambiguous and there are >= 48 edges.
+PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> edges,
+                             const CameraModel& camera, const PoseOptions& o);
+
+// Camera position and heading in the world from a pose and the pattern's
+// placement (the pattern frame of golden/pattern/pattern.hpp).
+struct Placement {
+  double x_m = 0, y_m = 0, z_m = 0, facing_rad = 0;
+};
+struct WorldFix {
+  double x_m = 0, y_m = 0, z_m = 0;
+  double camera_yaw_rad = 0;  // heading of the optical axis, CCW from +X
+};
+// The camera position from D, theta, beta; its yaw from the direction of the
+// disc centre in the camera (pose.centre_cam) and up_cam.
+WorldFix world_fix(const PatternPose& pose, const Placement& placement,
+                   const Eigen::Vector3d& up_cam);
+
+}  // namespace ceilnav::host::pattern
