@@ -13,6 +13,7 @@ namespace ceilnav::host {
 namespace {
 
 constexpr int kMaxImageSide = 2048;
+constexpr int kMaxMatrixSide = 16;  // camera_matrix 3x3, distortion_coefficients up to 1x14
 
 [[noreturn]] void fail(const std::string& source, const std::string& key, const std::string& what) {
   std::ostringstream msg;
@@ -46,6 +47,21 @@ cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& source, const 
   const cv::FileNode node = require(fs, source, key);
   if (!node.isMap() || node["rows"].empty() || node["cols"].empty() || node["data"].empty()) {
     fail(source, key, "must be an opencv-matrix (rows, cols, dt, data)");
+  }
+  // OpenCV allocates rows x cols before it compares them with the data: check
+  // the header first, so that a corrupt size cannot ask for gigabytes.
+  const cv::FileNode rows_node = node["rows"], cols_node = node["cols"], data = node["data"];
+  if (!rows_node.isInt() || !cols_node.isInt() || !data.isSeq()) {
+    fail(source, key, "rows and cols must be integers and data a sequence");
+  }
+  const int rows = static_cast<int>(rows_node), cols = static_cast<int>(cols_node);
+  if (rows < 1 || rows > kMaxMatrixSide || cols < 1 || cols > kMaxMatrixSide) {
+    fail(source, key, "rows and cols must be in 1.." + std::to_string(kMaxMatrixSide));
+  }
+  if (data.size() != static_cast<size_t>(rows) * static_cast<size_t>(cols)) {
+    fail(source, key,
+         "data has " + std::to_string(data.size()) +
+             " elements, rows x cols = " + std::to_string(rows * cols));
   }
   cv::Mat m;
   try {
