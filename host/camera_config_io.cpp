@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -66,7 +67,7 @@ cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& source, const 
   cv::Mat m;
   try {
     node >> m;
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {
     fail(source, key, std::string("unreadable matrix: ") + e.what());
   }
   if (m.empty() || m.channels() != 1) fail(source, key, "must be a non-empty 1-channel matrix");
@@ -130,7 +131,9 @@ CameraConfig load_camera_config(const std::string& path) {
   cv::FileStorage fs;
   try {
     fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_AUTO);
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {
+    // cv::Exception, and std::length_error from OpenCV 4.6's YAML parser on
+    // some malformed keys (found by fuzz_scene_yaml, docs/fuzzing.md).
     fail(path, "", std::string("not a FileStorage YAML file: ") + e.what());
   }
   if (!fs.isOpened()) fail(path, "", "cannot be parsed as FileStorage YAML");
