@@ -13,7 +13,10 @@
 //  * reading again with its own size as the expected size returns the same
 //    pixels; with a different expected size it throws InputError;
 //  * the frame goes through the fast path of the device model
-//    (stream::Pipeline::process_frame) and its histogram counts every pixel.
+//    (stream::Pipeline::process_frame) and its histogram counts every pixel;
+//  * host::choose_threshold on that histogram gives a finite background in
+//    0..255 and a finite, non-negative noise sigma.
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -27,6 +30,7 @@
 #include "apps/frame_io.hpp"
 #include "fuzz/check.hpp"
 #include "fuzz/temp_file.hpp"
+#include "host/auto_threshold.hpp"
 #include "stream/limits.hpp"
 #include "stream/pipeline.hpp"
 
@@ -98,5 +102,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       std::accumulate(r.histogram.bins.begin(), r.histogram.bins.end(), uint64_t{0});
   FUZZ_CHECK(counted == grey.total(), "histogram counts %llu of %zu pixels",
              static_cast<unsigned long long>(counted), grey.total());
+  // The host's threshold choice on that histogram (what it does between frames).
+  const host::ThresholdSettings ts = host::choose_threshold(r.histogram);
+  FUZZ_CHECK(std::isfinite(ts.background_grey) && ts.background_grey >= 0.0 &&
+                 ts.background_grey <= 255.0 && std::isfinite(ts.noise_sigma_grey) &&
+                 ts.noise_sigma_grey >= 0.0,
+             "threshold settings: background %g sigma %g", ts.background_grey, ts.noise_sigma_grey);
   return 0;
 }

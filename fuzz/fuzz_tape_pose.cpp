@@ -17,6 +17,7 @@
 //    pitch_est (when valid) in (0, pi/2 + 0.2);
 //  * the same call again gives the same result bit for bit (the per-thread
 //    scratch buffers carry nothing over from the previous input);
+//  * find_tape_end on an ok pose returns nothing or a finite point;
 //  * zenith_pose_from_moments on the mask moments of the same runs obeys the
 //    same status / finiteness rules.
 #include <cmath>
@@ -25,6 +26,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,7 @@
 #include "host/camera_config.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
+#include "host/flow_height.hpp"
 #include "host/status.hpp"
 #include "host/tape_pose.hpp"
 #include "stream/results.hpp"
@@ -221,6 +224,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   const TapePose again = host::estimate_tape_pose(runs, cam, cfg, opt);
   FUZZ_CHECK(same_pose(pose, again), "a second call gave another result");
+
+  if (pose.status == Status::ok) {
+    const std::optional<Eigen::Vector2d> end = host::find_tape_end(runs, cam, cfg, pose);
+    FUZZ_CHECK(!end || end->allFinite(), "find_tape_end returned a non-finite point");
+  }
 
   const TapePose zenith = host::zenith_pose_from_moments(moments_of(runs), cam, cfg);
   check_pose(zenith, "zenith_pose_from_moments");
