@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -14,7 +15,9 @@ namespace ceilnav::host {
 namespace {
 
 constexpr int kMaxImageSide = 2048;
-constexpr int kMaxMatrixSide = 16;  // camera_matrix 3x3, distortion_coefficients up to 1x14
+constexpr int kMaxMatrixSide = 16;
+constexpr std::uintmax_t kMaxFileBytes =
+    1u << 20;  // camera_matrix 3x3, distortion_coefficients up to 1x14
 
 [[noreturn]] void fail(const std::string& source, const std::string& key, const std::string& what) {
   std::ostringstream msg;
@@ -81,6 +84,29 @@ cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& source, const 
   return m64;
 }
 
+// Screens the file before OpenCV's parser sees it. OpenCV 4.6's FileStorage
+// YAML parser loops for ever on a document whose '---' marker line carries
+// content and is followed by certain lines ("%YAML:1.0", "--- a: 1", "i-",
+// "-"; found by fuzz_scene_yaml, docs/fuzzing.md). cv::FileStorage and
+// cv::calibrateCamera always write the marker alone on its line, so such a
+// file is refused. A scene file is a few hundred bytes: larger than 1 MB is
+// refused too (the parsers also recurse once per nesting level, unbounded).
+void screen_text(std::ifstream& in, const std::string& source) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(source, ec);
+  if (!ec && bytes > kMaxFileBytes) {
+    fail(source, "", "is " + std::to_string(bytes) + " bytes; a scene file is at most 1 MB");
+  }
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.rfind("---", 0) == 0 && line.find_first_not_of(" \t\r", 3) != std::string::npos) {
+      fail(source, "",
+           "line " + std::to_string(number) +
+               ": the YAML document marker '---' must be alone on its line");
+    }
+  }
+}
+
 }  // namespace
 
 void validate_camera_config(const CameraConfig& cfg, const std::string& source) {
@@ -127,6 +153,7 @@ CameraConfig load_camera_config(const std::string& path) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) fail(path, "", "cannot be opened for reading");
     if (probe.peek() == std::ifstream::traits_type::eof()) fail(path, "", "file is empty");
+    screen_text(probe, path);
   }
   cv::FileStorage fs;
   try {
