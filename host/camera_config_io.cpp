@@ -1,8 +1,14 @@
 #include "host/camera_config_io.hpp"
 
-#include <algorithm>
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <exception>
 #include <filesystem>
@@ -15,9 +21,10 @@ namespace ceilnav::host {
 namespace {
 
 constexpr int kMaxImageSide = 2048;
-constexpr int kMaxMatrixSide = 16;
-constexpr std::uintmax_t kMaxFileBytes =
-    1u << 20;  // camera_matrix 3x3, distortion_coefficients up to 1x14
+constexpr int kMaxMatrixSide = 16;  // camera_matrix 3x3, distortion_coefficients up to 1x14
+constexpr std::uintmax_t kMaxFileBytes = 1u << 20;
+constexpr int kParseTimeoutMs = 5000;  // a scene file parses in about a millisecond
+constexpr int kChildRefused = 3;       // exit status of the parse probe on a ConfigError
 
 [[noreturn]] void fail(const std::string& source, const std::string& key, const std::string& what) {
   std::ostringstream msg;
@@ -146,15 +153,10 @@ void validate_camera_config(const CameraConfig& cfg, const std::string& source) 
   }
 }
 
-CameraConfig load_camera_config(const std::string& path) {
-  {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) fail(path, "", "no such file");
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) fail(path, "", "cannot be opened for reading");
-    if (probe.peek() == std::ifstream::traits_type::eof()) fail(path, "", "file is empty");
-    screen_text(probe, path);
-  }
+namespace {
+
+// Parses and checks the file (load_camera_config without the guards).
+CameraConfig parse_camera_config(const std::string& path) {
   cv::FileStorage fs;
   try {
     fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_AUTO);
@@ -203,6 +205,82 @@ CameraConfig load_camera_config(const std::string& path) {
   cfg.tape_width_m = read_real(fs, path, "tape_width_m");
   validate_camera_config(cfg, path);
   return cfg;
+}
+
+// OpenCV 4.6's FileStorage parsers crash (SIGSEGV) or loop for ever on some
+// malformed files (found by fuzz_scene_yaml, docs/fuzzing.md). The file is
+// therefore parsed once in a child process first; only when the child ends
+// normally (the file was read, or refused with an exception) is it parsed
+// again in this process. The parsers are deterministic: the second parse
+// takes the same path. Throws ConfigError when the child is killed by a
+// signal, exits with another status (a sanitizer's report) or has not
+// finished after kParseTimeoutMs.
+void probe_parse_in_child(const std::string& path) {
+  int fds[2];
+  if (pipe(fds) != 0) fail(path, "", "cannot start the parser process (pipe)");
+  const pid_t pid = fork();
+  if (pid < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    fail(path, "", "cannot start the parser process (fork)");
+  }
+  if (pid == 0) {
+    // The child: no output (a crash report would only confuse), no exit
+    // handlers. Exit 0: the file was read; kChildRefused: it was refused.
+    close(fds[0]);
+    const int null_fd = open("/dev/null", O_WRONLY);
+    if (null_fd >= 0) dup2(null_fd, STDERR_FILENO);
+    int code = 0;
+    try {
+      (void)parse_camera_config(path);
+    } catch (...) {
+      code = kChildRefused;
+    }
+    _exit(code);
+  }
+  // The parent: the pipe's write end closes when the child ends.
+  close(fds[1]);
+  pollfd pfd{fds[0], POLLIN, 0};
+  int ready = 0;
+  do {
+    ready = poll(&pfd, 1, kParseTimeoutMs);
+  } while (ready < 0 && errno == EINTR);
+  close(fds[0]);
+  if (ready == 0) kill(pid, SIGKILL);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (ready == 0) {
+    fail(path, "",
+         "OpenCV's FileStorage parser did not finish within " +
+             std::to_string(kParseTimeoutMs / 1000) + " s on this file");
+  }
+  if (WIFSIGNALED(status)) {
+    fail(path, "",
+         "OpenCV's FileStorage parser crashed on this file (signal " +
+             std::to_string(WTERMSIG(status)) + ")");
+  }
+  // Any other exit status: a sanitizer reported the crash and exited.
+  if (!WIFEXITED(status) || (WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != kChildRefused)) {
+    fail(path, "",
+         "OpenCV's FileStorage parser failed on this file (exit status " +
+             std::to_string(WEXITSTATUS(status)) + ")");
+  }
+}
+
+}  // namespace
+
+CameraConfig load_camera_config(const std::string& path) {
+  {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) fail(path, "", "no such file");
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) fail(path, "", "cannot be opened for reading");
+    if (probe.peek() == std::ifstream::traits_type::eof()) fail(path, "", "file is empty");
+    screen_text(probe, path);
+  }
+  probe_parse_in_child(path);
+  return parse_camera_config(path);
 }
 
 void save_camera_config(const CameraConfig& cfg, const std::string& path) {
