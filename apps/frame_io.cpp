@@ -57,8 +57,7 @@ std::string size_mismatch(const fs::path& file, uint32_t width, uint32_t height,
 // first chunk) before anything is decoded: OpenCV allocates the whole image
 // from the header, so a few bytes claiming 30000 x 30000 RGBA would cost
 // gigabytes before the decoder finds that the data is missing.
-void check_png_header(std::ifstream& probe, const fs::path& file, int expected_width,
-                      int expected_height) {
+void check_png_header(std::ifstream& probe, const fs::path& file) {
   std::array<unsigned char, 24> h{};
   probe.read(reinterpret_cast<char*>(h.data()), static_cast<std::streamsize>(h.size()));
   static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P',  'N',  'G',
@@ -84,10 +83,6 @@ void check_png_header(std::ifstream& probe, const fs::path& file, int expected_w
                      std::to_string(height) + "; the device takes at most " +
                      std::to_string(stream::kMaxWidth) + "x" + std::to_string(stream::kMaxHeight));
   }
-  if ((expected_width > 0 && width != static_cast<uint32_t>(expected_width)) ||
-      (expected_height > 0 && height != static_cast<uint32_t>(expected_height))) {
-    throw InputError(size_mismatch(file, width, height, expected_width, expected_height));
-  }
 }
 
 }  // namespace
@@ -97,7 +92,7 @@ cv::Mat read_grey_frame(const fs::path& file, int expected_width, int expected_h
   if (!probe) {
     throw InputError("cannot open frame '" + file.string() + "'");
   }
-  check_png_header(probe, file, expected_width, expected_height);
+  check_png_header(probe, file);
   probe.close();
   cv::Mat img;
   try {
