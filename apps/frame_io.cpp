@@ -1,11 +1,17 @@
 #include "apps/frame_io.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
+#include <string>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "stream/limits.hpp"
 
 namespace ceilnav::app {
 namespace fs = std::filesystem;
@@ -38,11 +44,55 @@ std::vector<fs::path> list_png_frames(const fs::path& folder) {
   return frames;
 }
 
+namespace {
+
+std::string size_mismatch(const fs::path& file, uint32_t width, uint32_t height, int expected_width,
+                          int expected_height) {
+  return "frame '" + file.string() + "' is " + std::to_string(width) + "x" +
+         std::to_string(height) + " but the scene says " + std::to_string(expected_width) + "x" +
+         std::to_string(expected_height);
+}
+
+// Checks the PNG signature and the image size in the header chunk (IHDR, the
+// first chunk) before anything is decoded: OpenCV allocates the whole image
+// from the header, so a few bytes claiming 30000 x 30000 RGBA would cost
+// gigabytes before the decoder finds that the data is missing.
+void check_png_header(std::ifstream& probe, const fs::path& file) {
+  std::array<unsigned char, 24> h{};
+  probe.read(reinterpret_cast<char*>(h.data()), static_cast<std::streamsize>(h.size()));
+  static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P',  'N',  'G',
+                                                              '\r', '\n', 0x1A, '\n'};
+  if (probe.gcount() != static_cast<std::streamsize>(h.size()) ||
+      !std::equal(kSignature.begin(), kSignature.end(), h.begin())) {
+    throw InputError("cannot decode frame '" + file.string() + "' (not a PNG file)");
+  }
+  const auto be32 = [&](size_t at) {
+    return uint32_t{h[at]} << 24 | uint32_t{h[at + 1]} << 16 | uint32_t{h[at + 2]} << 8 |
+           uint32_t{h[at + 3]};
+  };
+  if (std::memcmp(h.data() + 12, "IHDR", 4) != 0) {
+    throw InputError("cannot decode frame '" + file.string() + "' (corrupt PNG header)");
+  }
+  const uint32_t width = be32(16), height = be32(20);
+  if (width == 0 || height == 0) {
+    throw InputError("cannot decode frame '" + file.string() + "' (corrupt PNG header: " +
+                     std::to_string(width) + "x" + std::to_string(height) + ")");
+  }
+  if (width > stream::kMaxWidth || height > stream::kMaxHeight) {
+    throw InputError("frame '" + file.string() + "' is " + std::to_string(width) + "x" +
+                     std::to_string(height) + "; the device takes at most " +
+                     std::to_string(stream::kMaxWidth) + "x" + std::to_string(stream::kMaxHeight));
+  }
+}
+
+}  // namespace
+
 cv::Mat read_grey_frame(const fs::path& file, int expected_width, int expected_height) {
   std::ifstream probe(file, std::ios::binary);
   if (!probe) {
     throw InputError("cannot open frame '" + file.string() + "'");
   }
+  check_png_header(probe, file);
   probe.close();
   cv::Mat img;
   try {
@@ -74,9 +124,9 @@ cv::Mat read_grey_frame(const fs::path& file, int expected_width, int expected_h
   }
   if ((expected_width > 0 && grey.cols != expected_width) ||
       (expected_height > 0 && grey.rows != expected_height)) {
-    throw InputError("frame '" + file.string() + "' is " + std::to_string(grey.cols) + "x" +
-                     std::to_string(grey.rows) + " but the scene says " +
-                     std::to_string(expected_width) + "x" + std::to_string(expected_height));
+    throw InputError(size_mismatch(file, static_cast<uint32_t>(grey.cols),
+                                   static_cast<uint32_t>(grey.rows), expected_width,
+                                   expected_height));
   }
   return grey;
 }

@@ -1,8 +1,16 @@
 #include "host/camera_config_io.hpp"
 
-#include <algorithm>
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
+#include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,6 +21,10 @@ namespace ceilnav::host {
 namespace {
 
 constexpr int kMaxImageSide = 2048;
+constexpr int kMaxMatrixSide = 16;  // camera_matrix 3x3, distortion_coefficients up to 1x14
+constexpr std::uintmax_t kMaxFileBytes = 1u << 20;
+constexpr int kParseTimeoutMs = 5000;  // a scene file parses in about a millisecond
+constexpr int kChildRefused = 3;       // exit status of the parse probe on a ConfigError
 
 [[noreturn]] void fail(const std::string& source, const std::string& key, const std::string& what) {
   std::ostringstream msg;
@@ -47,10 +59,25 @@ cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& source, const 
   if (!node.isMap() || node["rows"].empty() || node["cols"].empty() || node["data"].empty()) {
     fail(source, key, "must be an opencv-matrix (rows, cols, dt, data)");
   }
+  // OpenCV allocates rows x cols before it compares them with the data: check
+  // the header first, so that a corrupt size cannot ask for gigabytes.
+  const cv::FileNode rows_node = node["rows"], cols_node = node["cols"], data = node["data"];
+  if (!rows_node.isInt() || !cols_node.isInt() || !data.isSeq()) {
+    fail(source, key, "rows and cols must be integers and data a sequence");
+  }
+  const int rows = static_cast<int>(rows_node), cols = static_cast<int>(cols_node);
+  if (rows < 1 || rows > kMaxMatrixSide || cols < 1 || cols > kMaxMatrixSide) {
+    fail(source, key, "rows and cols must be in 1.." + std::to_string(kMaxMatrixSide));
+  }
+  if (data.size() != static_cast<size_t>(rows) * static_cast<size_t>(cols)) {
+    fail(source, key,
+         "data has " + std::to_string(data.size()) +
+             " elements, rows x cols = " + std::to_string(rows * cols));
+  }
   cv::Mat m;
   try {
     node >> m;
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {
     fail(source, key, std::string("unreadable matrix: ") + e.what());
   }
   if (m.empty() || m.channels() != 1) fail(source, key, "must be a non-empty 1-channel matrix");
@@ -62,6 +89,29 @@ cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& source, const 
     }
   }
   return m64;
+}
+
+// Screens the file before OpenCV's parser sees it. OpenCV 4.6's FileStorage
+// YAML parser loops for ever on a document whose '---' marker line carries
+// content and is followed by certain lines ("%YAML:1.0", "--- a: 1", "i-",
+// "-"; found by fuzz_scene_yaml, docs/fuzzing.md). cv::FileStorage and
+// cv::calibrateCamera always write the marker alone on its line, so such a
+// file is refused. A scene file is a few hundred bytes: larger than 1 MB is
+// refused too (the parsers also recurse once per nesting level, unbounded).
+void screen_text(std::ifstream& in, const std::string& source) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(source, ec);
+  if (!ec && bytes > kMaxFileBytes) {
+    fail(source, "", "is " + std::to_string(bytes) + " bytes; a scene file is at most 1 MB");
+  }
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.rfind("---", 0) == 0 && line.find_first_not_of(" \t\r", 3) != std::string::npos) {
+      fail(source, "",
+           "line " + std::to_string(number) +
+               ": the YAML document marker '---' must be alone on its line");
+    }
+  }
 }
 
 }  // namespace
@@ -103,18 +153,16 @@ void validate_camera_config(const CameraConfig& cfg, const std::string& source) 
   }
 }
 
-CameraConfig load_camera_config(const std::string& path) {
-  {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) fail(path, "", "no such file");
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) fail(path, "", "cannot be opened for reading");
-    if (probe.peek() == std::ifstream::traits_type::eof()) fail(path, "", "file is empty");
-  }
+namespace {
+
+// Parses and checks the file (load_camera_config without the guards).
+CameraConfig parse_camera_config(const std::string& path) {
   cv::FileStorage fs;
   try {
     fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_AUTO);
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {
+    // cv::Exception, and std::length_error from OpenCV 4.6's YAML parser on
+    // some malformed keys (found by fuzz_scene_yaml, docs/fuzzing.md).
     fail(path, "", std::string("not a FileStorage YAML file: ") + e.what());
   }
   if (!fs.isOpened()) fail(path, "", "cannot be parsed as FileStorage YAML");
@@ -157,6 +205,82 @@ CameraConfig load_camera_config(const std::string& path) {
   cfg.tape_width_m = read_real(fs, path, "tape_width_m");
   validate_camera_config(cfg, path);
   return cfg;
+}
+
+// OpenCV 4.6's FileStorage parsers crash (SIGSEGV) or loop for ever on some
+// malformed files (found by fuzz_scene_yaml, docs/fuzzing.md). The file is
+// therefore parsed once in a child process first; only when the child ends
+// normally (the file was read, or refused with an exception) is it parsed
+// again in this process. The parsers are deterministic: the second parse
+// takes the same path. Throws ConfigError when the child is killed by a
+// signal, exits with another status (a sanitizer's report) or has not
+// finished after kParseTimeoutMs.
+void probe_parse_in_child(const std::string& path) {
+  int fds[2];
+  if (pipe(fds) != 0) fail(path, "", "cannot start the parser process (pipe)");
+  const pid_t pid = fork();
+  if (pid < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    fail(path, "", "cannot start the parser process (fork)");
+  }
+  if (pid == 0) {
+    // The child: no output (a crash report would only confuse), no exit
+    // handlers. Exit 0: the file was read; kChildRefused: it was refused.
+    close(fds[0]);
+    const int null_fd = open("/dev/null", O_WRONLY);
+    if (null_fd >= 0) dup2(null_fd, STDERR_FILENO);
+    int code = 0;
+    try {
+      (void)parse_camera_config(path);
+    } catch (...) {
+      code = kChildRefused;
+    }
+    _exit(code);
+  }
+  // The parent: the pipe's write end closes when the child ends.
+  close(fds[1]);
+  pollfd pfd{fds[0], POLLIN, 0};
+  int ready = 0;
+  do {
+    ready = poll(&pfd, 1, kParseTimeoutMs);
+  } while (ready < 0 && errno == EINTR);
+  close(fds[0]);
+  if (ready == 0) kill(pid, SIGKILL);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (ready == 0) {
+    fail(path, "",
+         "OpenCV's FileStorage parser did not finish within " +
+             std::to_string(kParseTimeoutMs / 1000) + " s on this file");
+  }
+  if (WIFSIGNALED(status)) {
+    fail(path, "",
+         "OpenCV's FileStorage parser crashed on this file (signal " +
+             std::to_string(WTERMSIG(status)) + ")");
+  }
+  // Any other exit status: a sanitizer reported the crash and exited.
+  if (!WIFEXITED(status) || (WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != kChildRefused)) {
+    fail(path, "",
+         "OpenCV's FileStorage parser failed on this file (exit status " +
+             std::to_string(WEXITSTATUS(status)) + ")");
+  }
+}
+
+}  // namespace
+
+CameraConfig load_camera_config(const std::string& path) {
+  {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) fail(path, "", "no such file");
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) fail(path, "", "cannot be opened for reading");
+    if (probe.peek() == std::ifstream::traits_type::eof()) fail(path, "", "file is empty");
+    screen_text(probe, path);
+  }
+  probe_parse_in_child(path);
+  return parse_camera_config(path);
 }
 
 void save_camera_config(const CameraConfig& cfg, const std::string& path) {
