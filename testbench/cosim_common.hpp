@@ -13,7 +13,7 @@
 //                             by the harness name (one file per test)
 //   CEILNAV_COVERAGE_DIR=<dir> in a coverage build (CEILNAV_RTL_COVERAGE=ON),
 //                             writes this harness's Verilator coverage to
-//                             <dir>/<test>.<harness>.<n>.dat (scripts/rtl_coverage)
+//                             <dir>/<test>.<harness>.s<seed>.<n>.dat
 #pragma once
 
 #include <algorithm>
@@ -230,8 +230,9 @@ class Cosim {
       test = std::string(info->test_suite_name()) + "." + info->name();
     }
     std::replace(test.begin(), test.end(), '/', '_');
-    const std::string path =
-        std::string(dir) + "/" + test + "." + name_ + "." + std::to_string(serial++) + ".dat";
+    // The seed in the name: runs of one test with several seeds add up.
+    const std::string path = std::string(dir) + "/" + test + "." + name_ + ".s" +
+                             std::to_string(seed_) + "." + std::to_string(serial++) + ".dat";
     ctx_->coveragep()->write(path.c_str());
 #endif
   }
