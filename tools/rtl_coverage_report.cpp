@@ -6,7 +6,8 @@
 // `C '<key>\2<value>\1<key>\2<value>...' <count>`); points of the same module,
 // type, file, line, column and comment are merged over instances and over
 // files (counts summed), so a line is covered if any instance in any test
-// executed it. The table gives, per module, the covered/total points of the
+// executed it; parameterisations of a module (Verilator's <module>__<suffix>)
+// count as the module. The table gives, per module, the covered/total points of the
 // line kind (v_line and v_branch: statement blocks and both sides of every
 // if/case) and of the toggle kind (v_toggle: each bit of each signal seen
 // both 0->1 and 1->0 counts as toggled once Verilator counts it).
@@ -140,7 +141,11 @@ int main(int argc, char** argv) {
       if (slash == std::string::npos) continue;
       const std::string type = page.substr(0, slash);
       PointKey key;
+      // Verilator names a parameterisation <module>__<suffix>: one row per module.
       key.module = page.substr(slash + 1);
+      if (const size_t variant = key.module.find("__"); variant != std::string::npos) {
+        key.module.resize(variant);
+      }
       if (type == "v_line" || type == "v_branch") {
         key.kind = "line";
       } else if (type == "v_toggle") {
