@@ -130,6 +130,7 @@ struct Coverage {
   uint64_t stream_beats = 0;    // m_axis_runs transfers
   uint64_t irq_rises = 0;
   uint64_t soft_resets = 0;
+  uint64_t hard_resets = 0;
 
   void note_response(const BusOp& op, uint32_t rdata, uint8_t resp) {
     if (resp == r::kRespSlvErr) ++slverr;
@@ -146,13 +147,14 @@ struct Coverage {
     std::printf(
         "[cosim] ceilnav_top coverage: %llu frames published, %llu malformed, %llu SLVERR, "
         "%llu non-zero bins read, %llu runs in the register window, %llu stream beats, "
-        "%llu irq rises, %llu soft resets, %llu non-zero class moment reads\n",
+        "%llu irq rises, %llu soft resets, %llu hard resets, %llu non-zero class moment "
+        "reads\n",
         static_cast<unsigned long long>(frames_published),
         static_cast<unsigned long long>(malformed), static_cast<unsigned long long>(slverr),
         static_cast<unsigned long long>(hist_nonzero),
         static_cast<unsigned long long>(run_word_valid),
         static_cast<unsigned long long>(stream_beats), static_cast<unsigned long long>(irq_rises),
-        static_cast<unsigned long long>(soft_resets),
+        static_cast<unsigned long long>(soft_resets), static_cast<unsigned long long>(hard_resets),
         static_cast<unsigned long long>(class_nonzero));
   }
 };
@@ -181,6 +183,7 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
   uint64_t frames = 0;
   uint64_t big_frame_at = sc.big_frame ? static_cast<uint64_t>(rng.uniform(5, 40)) : ~0ull;
   double tready_p = 1.0;
+  bool hard_reset_pending = false;
 
   const auto push = [&](const BusOp& op) {
     ops.push_back(op);
@@ -306,10 +309,26 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
         const bool soft = rng.chance(0.03);
         push({true, r::control::kOffset, control | r::control::kSoftReset.put(soft ? 1u : 0u), 0xF,
               false});
+      } else if (video.size() < 100'000 && rng.chance(0.002)) {
+        hard_reset_pending = true;  // at the next idle bus cycle, below
       } else {
         // Idle bus for a while: a read of ID later.
         if (rng.chance(0.2)) push({false, r::id::kOffset, 0, 0xF, false});
       }
+    }
+    if (hard_reset_pending && !op_in_flight && m.idle()) {
+      // Hardware reset (rst_ni), the bus idle, anywhere in a frame (not in
+      // the big one): every register to its reset value, the device
+      // disabled; the LUT RAM keeps its tables. The host enables it again;
+      // the geometry written for the next frame is lost, so that frame may
+      // well be malformed against the reset geometry.
+      hard_reset_pending = false;
+      top.hard_reset();
+      ++cov.hard_resets;
+      run_sink = false;
+      control = r::control::kEnable.mask();
+      ops.push_front({true, r::control::kOffset, control, 0xF, false});
+      ops.push_front({true, r::intr_enable::kOffset, 0x7, 0xF, false});
     }
     if (!op_in_flight && !ops.empty() && m.idle()) {
       const BusOp op = ops.front();
@@ -414,6 +433,7 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
     EXPECT_GT(cov.run_word_valid, 0u);
     EXPECT_GT(cov.irq_rises, 0u);
     EXPECT_GT(cov.soft_resets, 0u);
+    EXPECT_GT(cov.hard_resets, 0u);
     EXPECT_GT(cov.class_nonzero, 0u);
     EXPECT_GT(cov.stream_beats + cov.run_word_valid, 100u);
   }
