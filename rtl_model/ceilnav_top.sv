@@ -72,6 +72,7 @@ module ceilnav_top (
   // Registers
   logic                 enable_q, run_sink_q;
   logic [IntrBits-1:0]  intr_state_q, intr_enable_q;
+  logic [3:0]           err_cause_q;
   logic [11:0]          width_q, height_q, min_run_q, max_runs_q;
   logic [7:0]           background_q;
   logic                 hist_src_q;
@@ -247,6 +248,9 @@ module ceilnav_top (
       rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_INTR_STATE_OFFSET)],
           32'(intr_state_q));
       rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_INTR_STATE_OFFSET)];
+      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_ERROR_CAUSE_OFFSET)],
+          32'(err_cause_q));
+      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_ERROR_CAUSE_OFFSET)];
       rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_INTR_ENABLE_OFFSET)],
           32'(intr_enable_q));
       rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_INTR_ENABLE_OFFSET)];
@@ -415,6 +419,7 @@ module ceilnav_top (
   // Write decode: the register file's part of a write handshake.
   logic                wr_err, wr_control, wr_lut_data, wr_hist_index;
   logic [IntrBits-1:0] intr_clear, intr_test;
+  logic [3:0]          err_cause_clear;
   logic [31:0]         wdata;
 
   assign wdata = s_axil_wdata_i;
@@ -426,6 +431,7 @@ module ceilnav_top (
     wr_hist_index = 1'b0;
     intr_clear    = '0;
     intr_test     = '0;
+    err_cause_clear = '0;
     if (aw_hs) begin
       unique case (wr_addr)
         CEILNAV_CONTROL_OFFSET:          wr_control = 1'b1;
@@ -433,6 +439,8 @@ module ceilnav_top (
           intr_clear = IntrBits'(wdata & CEILNAV_INTR_STATE_W1C_MASK);
         CEILNAV_INTR_TEST_OFFSET:
           intr_test = IntrBits'(wdata & CEILNAV_INTR_TEST_WO_MASK);
+        CEILNAV_ERROR_CAUSE_OFFSET:
+          err_cause_clear = 4'(wdata & CEILNAV_ERROR_CAUSE_W1C_MASK);
         CEILNAV_LUT_DATA_OFFSET:         wr_lut_data = 1'b1;
         CEILNAV_HIST_INDEX_OFFSET:       wr_hist_index = 1'b1;
         CEILNAV_INTR_ENABLE_OFFSET, CEILNAV_WIDTH_OFFSET, CEILNAV_HEIGHT_OFFSET,
@@ -451,6 +459,7 @@ module ceilnav_top (
         wr_hist_index = 1'b0;
         intr_clear    = '0;
         intr_test     = '0;
+        err_cause_clear = '0;
       end
     end
   end
@@ -503,6 +512,7 @@ module ceilnav_top (
       run_sink_q           <= 1'b0;
       intr_state_q         <= '0;
       intr_enable_q        <= '0;
+      err_cause_q          <= '0;
       width_q              <= 12'(CEILNAV_WIDTH_VALUE_RESVAL);
       height_q             <= 12'(CEILNAV_HEIGHT_VALUE_RESVAL);
       background_q         <= 8'(CEILNAV_BACKGROUND_LEVEL_VALUE_RESVAL);
@@ -533,6 +543,8 @@ module ceilnav_top (
       enable_q      <= enable_d;
       intr_enable_q <= intr_enable_d;
       intr_state_q  <= intr_state_d;
+      // ERROR_CAUSE: {MISSING_SOF, EARLY_SOF, LATE_EOL, EARLY_EOL} = err_changed[3:0].
+      err_cause_q   <= (err_cause_q & ~err_cause_clear) | err_changed[3:0];
       if (wr_control) begin
         run_sink_q <= wdata[CEILNAV_CONTROL_RUN_SINK_LSB];
       end

@@ -39,6 +39,7 @@ void CeilnavTop::reset() {
   run_sink_regs_q_ = false;
   intr_state_q_ = 0;
   intr_enable_q_ = 0;
+  error_cause_q_ = 0;
   cfg_q_ = PipelineConfig{};
   cfg_q_.width = static_cast<uint16_t>(regs::width::kValue.reset);
   cfg_q_.height = static_cast<uint16_t>(regs::height::kValue.reset);
@@ -127,8 +128,14 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
   }
   bool eof_seen = false;
   bool frame_closed = false;
+  uint32_t cause_set = 0;
   if (!(err == err_prev_q_)) {
     if (error_counters_differ(err, err_prev_q_)) events |= kIntrFrameError;
+    namespace ec = regs::error_cause;
+    cause_set = ec::kEarlyEol.put(err.early_eol != err_prev_q_.early_eol ? 1u : 0u) |
+                ec::kLateEol.put(err.late_eol != err_prev_q_.late_eol ? 1u : 0u) |
+                ec::kEarlySof.put(err.early_sof != err_prev_q_.early_sof ? 1u : 0u) |
+                ec::kMissingSof.put(err.missing_sof != err_prev_q_.missing_sof ? 1u : 0u);
     eof_seen = err.frames_ok != err_prev_q_.frames_ok;
     // An early SOF aborts a frame and opens the next one on the same beat; an
     // EOL error always leaves frame_check discarding (the frame aborted, or
@@ -159,17 +166,19 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
   // ---- Register file, after the edge.
   uint32_t intr_set = events;
   uint32_t intr_clear = 0;
+  uint32_t cause_clear = 0;
   bool hist_index_written = false;
   bool soft_reset = false;
   uint8_t bresp = kOkay;
   if (aw_hs) {
     bresp = write_register(s_axil.awaddr, s_axil.wdata, s_axil.wstrb, intr_set, intr_clear,
-                           hist_index_written, soft_reset);
+                           cause_clear, hist_index_written, soft_reset);
   }
   if (hist_inc && !hist_index_written) ++hist_index_q_;
 
   const bool irq_before = irq();
   intr_state_q_ = (intr_state_q_ & ~intr_clear) | intr_set;  // a set wins over a clear
+  error_cause_q_ = (error_cause_q_ & ~cause_clear) | cause_set;
   if (!irq_before && irq()) eof_to_irq_q_ = cycle_q_ - eof_edge_q_;
   if (frame_done) ++frame_count_q_;
   if (eof_seen) eof_edge_q_ = cycle_q_ - 1u;
@@ -226,8 +235,8 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
 }
 
 uint8_t CeilnavTop::write_register(uint32_t addr, uint32_t data, uint8_t strb, uint32_t& intr_set,
-                                   uint32_t& intr_clear, bool& hist_index_written,
-                                   bool& soft_reset) {
+                                   uint32_t& intr_clear, uint32_t& cause_clear,
+                                   bool& hist_index_written, bool& soft_reset) {
   const uint32_t a = addr & regs::kAddrMask;
   const regs::Register* reg = (a % 4 == 0) ? regs::find(a) : nullptr;
   if (reg == nullptr || strb != 0xF || reg->write_mask() == 0) return kSlvErr;
@@ -241,6 +250,9 @@ uint8_t CeilnavTop::write_register(uint32_t addr, uint32_t data, uint8_t strb, u
       break;
     case r::intr_state::kOffset:
       intr_clear = data & reg->w1c_mask;
+      break;
+    case r::error_cause::kOffset:
+      cause_clear = data & reg->w1c_mask;
       break;
     case r::intr_enable::kOffset:
       intr_enable_q_ = data & reg->rw_mask;
@@ -336,6 +348,8 @@ uint32_t CeilnavTop::read_register(uint32_t addr, uint8_t& resp) const {
              r::status::kLutPending.put(lut_pending_q_ ? 1u : 0u);
     case r::intr_state::kOffset:
       return intr_state_q_;
+    case r::error_cause::kOffset:
+      return error_cause_q_;
     case r::intr_enable::kOffset:
       return intr_enable_q_;
     case r::width::kOffset:

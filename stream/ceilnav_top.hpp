@@ -55,7 +55,8 @@ class CeilnavTop {
   uint32_t read_register(uint32_t addr, uint8_t& resp) const;
   // A write: the register file's part, applied after the edge.
   uint8_t write_register(uint32_t addr, uint32_t data, uint8_t strb, uint32_t& intr_set,
-                         uint32_t& intr_clear, bool& hist_index_written, bool& soft_reset);
+                         uint32_t& intr_clear, uint32_t& cause_clear, bool& hist_index_written,
+                         bool& soft_reset);
   // The table the pipeline activates at its next SOF, given the two tracked banks.
   void push_config();
   void reset_datapath();
@@ -68,7 +69,8 @@ class CeilnavTop {
   bool run_sink_regs_q_ = false;
   uint32_t intr_state_q_ = 0;
   uint32_t intr_enable_q_ = 0;
-  PipelineConfig cfg_q_{};  // WIDTH .. HIST_SOURCE (the LUT field unused)
+  uint32_t error_cause_q_ = 0;  // ERROR_CAUSE (w1c)
+  PipelineConfig cfg_q_{};      // WIDTH .. HIST_SOURCE (the LUT field unused)
   uint8_t lut_index_q_ = 0;
   uint8_t hist_index_q_ = 0;
 

@@ -304,6 +304,7 @@ void run_class(Malform m, uint64_t seed) {
   }
   const FrameErrorCounters base = b.counters();
   EXPECT_EQ(base, (FrameErrorCounters{0, 0, 0, 0, 1, 0}));
+  EXPECT_EQ(b.read(r::error_cause::kOffset), 0u) << "a good frame set ERROR_CAUSE";
   EXPECT_EQ(b.read(r::frame_count::kOffset), 1u);
   EXPECT_EQ(b.read(r::res_frame_index::kOffset), 0u);
   b.drain_runs();
@@ -457,6 +458,15 @@ void run_class(Malform m, uint64_t seed) {
   EXPECT_EQ(got.frames_ok, want.frames_ok);
   EXPECT_EQ(got.frames_aborted, want.frames_aborted);
   EXPECT_EQ(b.res_counters(), got) << "RES_* of the last frame = the live counters";
+  // ERROR_CAUSE: one sticky bit per class that occurred (kept by a soft
+  // reset, cleared by a hardware reset), then W1C.
+  const uint32_t cause = r::error_cause::kEarlyEol.put(e.delta.early_eol != 0 ? 1u : 0u) |
+                         r::error_cause::kLateEol.put(e.delta.late_eol != 0 ? 1u : 0u) |
+                         r::error_cause::kEarlySof.put(e.delta.early_sof != 0 ? 1u : 0u) |
+                         r::error_cause::kMissingSof.put(e.delta.missing_sof != 0 ? 1u : 0u);
+  EXPECT_EQ(b.read(r::error_cause::kOffset), cause) << "ERROR_CAUSE";
+  b.write(r::error_cause::kOffset, 0xF);
+  EXPECT_EQ(b.read(r::error_cause::kOffset), 0u) << "ERROR_CAUSE after W1C";
   const uint32_t frames = reset ? 1u : 2u + e.published;
   EXPECT_EQ(b.read(r::frame_count::kOffset), frames);
   EXPECT_EQ(b.read(r::res_frame_index::kOffset), want.frames_ok - 1);
