@@ -115,6 +115,36 @@ std::string_view to_string(PatternStatus s) {
   return "unknown";
 }
 
+FrameMoments device_moments(const stream::ClassMomentResults& r) {
+  FrameMoments out{};
+  for (int c = 1; c < kClasses; ++c) {
+    const auto& m = r.of(c);
+    auto as_int = [](uint64_t v) { return static_cast<int64_t>(v); };
+    out[static_cast<std::size_t>(c)] = {as_int(m[stream::kM00]), as_int(m[stream::kM10]),
+                                        as_int(m[stream::kM01]), as_int(m[stream::kM20]),
+                                        as_int(m[stream::kM11]), as_int(m[stream::kM02])};
+  }
+  return out;
+}
+
+Extents disc_extents_from_runs(std::span<const stream::RunRecord> runs) {
+  Extents e;
+  bool any = false;
+  for (const auto& r : runs) {
+    if (r.sum_w != 0) continue;
+    if (!any) {
+      e = {r.x_start, r.x_end, r.row, r.row};
+      any = true;
+      continue;
+    }
+    e.u_min = std::min<int>(e.u_min, r.x_start);
+    e.u_max = std::max<int>(e.u_max, r.x_end);
+    e.v_min = std::min<int>(e.v_min, r.row);
+    e.v_max = std::max<int>(e.v_max, r.row);
+  }
+  return e;
+}
+
 FrameMoments class_moments(const uint8_t* classes, int width, int height, std::size_t stride) {
   FrameMoments m{};
   for (int y = 0; y < height; ++y) {
@@ -533,7 +563,10 @@ BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraMo
   BarcodeRead out;
   if (runs.empty()) return out;
   std::map<int, std::vector<const stream::RunRecord*>> rows;
-  for (const auto& r : runs) rows[r.row].push_back(&r);
+  for (const auto& r : runs) {
+    if (o.bar_contrast > 0.0 && r.sum_w == 0) continue;  // the disc's runs carry no ink
+    rows[r.row].push_back(&r);
+  }
   std::map<int, int> votes;
   std::map<int, std::vector<BarEdge>> row_edges;
   int left_seen = 0, right_seen = 0, any_block = 0;

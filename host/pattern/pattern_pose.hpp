@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "host/camera_model.hpp"
+#include "stream/results.hpp"
 #include "stream/run_record.hpp"
 
 namespace ceilnav::host::pattern {
@@ -36,12 +37,20 @@ using FrameMoments = std::array<ClassMoments, kClasses>;
 // in 64-bit integers (tools and tests; the hardware supplies the same numbers).
 FrameMoments class_moments(const uint8_t* classes, int width, int height, std::size_t stride);
 
+// The device's class moments (stream::FrameResults::class_moments) in the
+// same form; the background (not measured by the device) is left zero.
+FrameMoments device_moments(const stream::ClassMomentResults& r);
+
 // Bounding box of a class's pixels (the seed's projections), inclusive.
 struct Extents {
   int u_min = 0, u_max = -1, v_min = 0, v_max = -1;
   bool empty() const { return u_max < u_min; }
 };
 Extents class_extents(const uint8_t* classes, int width, int height, std::size_t stride, int cls);
+// The same for the disc from the device's run records: with the pattern's
+// device configuration (golden::pattern::device_config) the disc is in the
+// run mask with zero weight, the bars with their ink (> 0).
+Extents disc_extents_from_runs(std::span<const stream::RunRecord> runs);
 
 enum class PatternStatus {
   ok,
@@ -119,7 +128,8 @@ struct CirclePose {
 std::vector<CirclePose> circle_poses_from_conic(const Eigen::Matrix3d& q, double r);
 Eigen::Matrix3d conic_from_ellipse(const Ellipse& e);
 
-// Bar-code reader on the run records (mask = bar class), docs/pattern.md.
+// Bar-code reader on the run records (mask = bar class; with bar_contrast > 0
+// zero-weight runs, the disc's, are skipped), docs/pattern.md.
 struct BarcodeOptions {
   int min_full_rows = 3;              // rows with both blocks decoded
   double max_bad_row_fraction = 0.1;  // rows disagreeing with the majority -> unreadable
