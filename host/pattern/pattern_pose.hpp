@@ -165,9 +165,11 @@ BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraMo
 // dimensions "for double checking or averaging"): Gauss-Newton on the
 // rotation, translation and the edges' threshold bias, minimising each
 // edge's distance to the image of its pattern line x = x_pat (which fixes
-// everything but the slide along y), with the conic's centre fixing that
-// slide and the conic's normal as a prior. Returns `conic` unchanged unless
-// it is ok or ambiguous and there are >= 48 edges.
+// everything but the slide along y), with the conic's centre (all three
+// coordinates: it fixes that slide, and its distance, from the unforeshortened
+// major axis, holds D where the bars only fix cos(theta) / D) and the conic's
+// normal as priors. Returns `conic` unchanged unless it is ok or ambiguous and
+// there are >= 48 edges.
 PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> edges,
                              const CameraModel& camera, const PoseOptions& o);
 
