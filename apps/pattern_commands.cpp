@@ -43,6 +43,7 @@ struct Analysis {
   hp::FrameMoments moments{};
   hp::Extents disc;
   std::vector<stream::RunRecord> runs;
+  uint32_t min_bar_weight = 1;  // lighter runs are the disc's
   bool disc_cut = false;
   hp::PatternPose conic, moment, projection;
   hp::PatternPose conic_bars;  // the conic pose refined with the bar edges
@@ -60,7 +61,8 @@ Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry
       device.process(grey, gp::device_config(grey.cols, grey.rows, radiometry), a.runs, cycles);
   if (!res.valid) throw std::runtime_error("pattern: the device rejected the frame");
   a.moments = hp::device_moments(res.class_moments);
-  a.disc = hp::disc_extents_from_runs(a.runs);
+  a.min_bar_weight = gp::bar_run_min_weight(radiometry);
+  a.disc = hp::disc_extents_from_runs(a.runs, a.min_bar_weight);
   a.disc_cut = !a.disc.empty() && (a.disc.u_min == 0 || a.disc.v_min == 0 ||
                                    a.disc.u_max == grey.cols - 1 || a.disc.v_max == grey.rows - 1);
   a.conic = hp::conic_method(a.moments, model, pose_options);
@@ -75,6 +77,7 @@ Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry
   bo.bar_contrast =
       radiometry.level(gp::PixelClass::background) - radiometry.level(gp::PixelClass::bar);
   bo.radius_m = pose_options.radius_m;
+  bo.min_bar_run_weight = a.min_bar_weight;
   a.code = hp::read_barcode(a.runs, model, grey.cols, bo);
   a.conic_bars = hp::refine_with_bars(a.conic, a.code.edges, model, pose_options);
   return a;
@@ -121,7 +124,7 @@ cv::Mat overlay(const cv::Mat& grey, const Analysis& a, const host::CameraModel&
   cv::Mat bgr;
   cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
   for (const auto& r : a.runs) {
-    if (r.sum_w == 0) continue;  // the disc's runs
+    if (r.sum_w < a.min_bar_weight) continue;  // the disc's runs
     cv::line(bgr, {r.x_start, r.row}, {r.x_end, r.row}, cv::Scalar(0, 160, 0), 1);
   }
   if (a.conic.status != hp::PatternStatus::no_pattern &&

@@ -310,6 +310,11 @@ stream::PipelineConfig device_config(int width, int height, const Radiometry& r)
   return cfg;
 }
 
+uint32_t bar_run_min_weight(const Radiometry& r) {
+  const ClassThresholds t = class_thresholds(r);
+  return static_cast<uint32_t>(255 - (t.bar_below - 1) - bar_run_background(r));
+}
+
 std::vector<stream::RunRecord> bar_runs(const cv::Mat& grey, const Radiometry& r) {
   if (grey.type() != CV_8UC1) throw std::invalid_argument("bar_runs: needs an 8-bit grey frame");
   stream::Pipeline pipeline;

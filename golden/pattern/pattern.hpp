@@ -114,10 +114,17 @@ cv::Mat classify(const cv::Mat& grey, const std::array<uint8_t, 256>& lut);
 // The device configuration for a pattern frame (docs/pattern.md): LUT with
 // remap = 255 - grey, CLASS = class_lut (class_moments of disc, shadow and
 // bars) and mask = bar or disc class; run background bar_run_background, so a
-// bar run's weight is its ink and a disc run's is zero (the disc's remap is
-// below the background: std::invalid_argument if the radiometry breaks
-// that); class window = the whole frame; min run length 1, 32 runs per row.
+// bar run's weight is its ink and a disc run's only its margins' (the disc's
+// remap is below the background: std::invalid_argument if the radiometry
+// breaks that); class window = the whole frame; min run length 1, 32 runs
+// per row.
 stream::PipelineConfig device_config(int width, int height, const Radiometry& r);
+// The least weight of a bar run with device_config: one bar pixel's ink
+// (grey bar_below - 1). A disc run weighs only its two margin pixels, each
+// below this (not bar class), and in practice far below (a margin pixel on
+// the rim would need to be 5 sigma dark at sigma 3 to weigh half of it):
+// runs lighter than this are the disc's.
+uint32_t bar_run_min_weight(const Radiometry& r);
 
 // The run records of a grey frame with device_config (stream::Pipeline's
 // frame-at-a-time path): bar runs and zero-weight disc runs.

@@ -127,11 +127,11 @@ FrameMoments device_moments(const stream::ClassMomentResults& r) {
   return out;
 }
 
-Extents disc_extents_from_runs(std::span<const stream::RunRecord> runs) {
+Extents disc_extents_from_runs(std::span<const stream::RunRecord> runs, uint32_t min_bar_weight) {
   Extents e;
   bool any = false;
   for (const auto& r : runs) {
-    if (r.sum_w != 0) continue;
+    if (r.sum_w >= min_bar_weight) continue;
     if (!any) {
       e = {r.x_start, r.x_end, r.row, r.row};
       any = true;
@@ -564,7 +564,7 @@ BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraMo
   if (runs.empty()) return out;
   std::map<int, std::vector<const stream::RunRecord*>> rows;
   for (const auto& r : runs) {
-    if (o.bar_contrast > 0.0 && r.sum_w == 0) continue;  // the disc's runs carry no ink
+    if (o.bar_contrast > 0.0 && r.sum_w < o.min_bar_run_weight) continue;  // the disc's runs
     rows[r.row].push_back(&r);
   }
   std::map<int, int> votes;

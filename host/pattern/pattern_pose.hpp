@@ -49,8 +49,10 @@ struct Extents {
 Extents class_extents(const uint8_t* classes, int width, int height, std::size_t stride, int cls);
 // The same for the disc from the device's run records: with the pattern's
 // device configuration (golden::pattern::device_config) the disc is in the
-// run mask with zero weight, the bars with their ink (> 0).
-Extents disc_extents_from_runs(std::span<const stream::RunRecord> runs);
+// run mask with no ink (only its margins weigh), the bars with their ink:
+// runs lighter than min_bar_weight (golden::pattern::bar_run_min_weight) are
+// the disc's.
+Extents disc_extents_from_runs(std::span<const stream::RunRecord> runs, uint32_t min_bar_weight);
 
 enum class PatternStatus {
   ok,
@@ -129,7 +131,8 @@ std::vector<CirclePose> circle_poses_from_conic(const Eigen::Matrix3d& q, double
 Eigen::Matrix3d conic_from_ellipse(const Ellipse& e);
 
 // Bar-code reader on the run records (mask = bar class; with bar_contrast > 0
-// zero-weight runs, the disc's, are skipped), docs/pattern.md.
+// runs lighter than min_bar_run_weight, the disc's, are skipped),
+// docs/pattern.md.
 struct BarcodeOptions {
   int min_full_rows = 3;              // rows with both blocks decoded
   double max_bad_row_fraction = 0.1;  // rows disagreeing with the majority -> unreadable
@@ -140,6 +143,9 @@ struct BarcodeOptions {
   // Run weight of a full bar pixel (plate level - bar level in the LUT remap,
   // golden::pattern::bar_mask_lut); > 0: sub-pixel edges from sum_w, sum_xw.
   double bar_contrast = 0.0;
+  // With bar_contrast > 0: runs lighter than this are not bars (the disc's
+  // runs with golden::pattern::device_config; bar_run_min_weight).
+  uint32_t min_bar_run_weight = 1;
 };
 // One bar seen on a row: normalised (undistorted) image point of its ink
 // centroid, the bar's pattern-frame x extent, the image row, its width along
