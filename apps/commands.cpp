@@ -73,21 +73,10 @@ void write_scene(const OutputFolder& folder, const host::CameraConfig& camera) {
   host::load_camera_config(path);
 }
 
-// fast, model, or rtl (when this build has the Verilated device).
 void configure_backend(host::NavigatorOptions& opt, const std::string& name) {
-  if (name == "fast") {
-    opt.backend = host::Backend::fast;
-  } else if (name == "model") {
-    opt.backend = host::Backend::model;
-  } else if (name == "rtl") {
-    opt.backend = host::Backend::rtl;
-    opt.bus_factory = rtl_bus_factory();
-    if (!opt.bus_factory) {
-      throw std::runtime_error("this ceilnav was built without the Verilated RTL backend");
-    }
-  } else {
-    throw std::runtime_error("unknown backend '" + name + "' (fast, model or rtl)");
-  }
+  const host::DeviceOptions d = device_options(name);
+  opt.backend = d.backend;
+  opt.bus_factory = d.bus_factory;
 }
 
 std::string frame_name(int i) {
@@ -97,6 +86,28 @@ std::string frame_name(int i) {
 }
 
 }  // namespace
+
+host::DeviceOptions device_options(const std::string& backend) {
+  host::DeviceOptions opt;
+  if (backend == "fast") {
+    opt.backend = host::Backend::fast;
+  } else if (backend == "model") {
+    opt.backend = host::Backend::model;
+  } else if (backend == "rtl") {
+    opt.backend = host::Backend::rtl;
+    opt.bus_factory = rtl_bus_factory();
+    if (!opt.bus_factory) {
+      throw std::runtime_error("this ceilnav was built without the Verilated RTL backend");
+    }
+  } else {
+    throw std::runtime_error("unknown backend '" + backend + "' (fast, model or rtl)");
+  }
+  if (opt.backend != host::Backend::fast) {  // exercise the stream handshakes, as demo does
+    opt.gap_probability = 0.1;
+    opt.backpressure_probability = 0.3;
+  }
+  return opt;
+}
 
 // ---------------------------------------------------------------- demo
 

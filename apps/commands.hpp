@@ -7,6 +7,7 @@
 #include <string>
 
 #include "host/camera_config.hpp"
+#include "host/device.hpp"
 
 namespace ceilnav::app {
 
@@ -62,6 +63,11 @@ struct AccuracyOptions {
   double offset_rms_limit_m = 0.001;
 };
 int run_accuracy(const AccuracyOptions& o);
+
+// The device for a backend name (fast, model, or rtl when this build has the
+// Verilated RTL; std::runtime_error otherwise); the bus backends with the
+// demo's tvalid gaps (0.1) and run-stream back-pressure (0.3).
+host::DeviceOptions device_options(const std::string& backend);
 
 // The default camera (apps/default_scene.hpp) for another frame size: focal
 // lengths and principal point scaled from 640x480.

@@ -230,6 +230,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 50.0))
       ->capture_default_str();
   pat_cmd->add_option("--seed", pat.seed, "Built-in scene: noise seed")->capture_default_str();
+  pat_cmd
+      ->add_option("--backend", pat.backend,
+                   "fast (frame at a time), model (C++ cycle-level device through its "
+                   "registers) or rtl (Verilated RTL through its registers)")
+      ->check(CLI::IsMember({"fast", "model", "rtl"}))
+      ->capture_default_str();
   pat_cmd->add_flag("--quiet", pat.quiet, "No per-frame lines");
 
   PatternAccuracyOptions pacc;
@@ -255,6 +261,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 20))
       ->capture_default_str();
   pacc_cmd->add_option("--seed", pacc.seed, "Seed of identities, co-azimuths and noise")
+      ->capture_default_str();
+  pacc_cmd->add_option("--backend", pacc.backend, "fast, model or rtl (as for pattern)")
+      ->check(CLI::IsMember({"fast", "model", "rtl"}))
       ->capture_default_str();
   pacc_cmd->add_option("--csv", pacc.csv, "Per-frame errors to this CSV");
   pacc_cmd->add_option("--plot", pacc.plot, "PNG of the error curves beside the seed's tables");

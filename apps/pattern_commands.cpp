@@ -25,6 +25,7 @@
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
+#include "host/device.hpp"
 #include "host/pattern/pattern_pose.hpp"
 #include "host/pattern/pattern_search.hpp"
 
@@ -42,19 +43,26 @@ struct Analysis {
   hp::FrameMoments moments{};
   hp::Extents disc;
   std::vector<stream::RunRecord> runs;
+  uint32_t min_bar_weight = 1;  // lighter runs are the disc's
   bool disc_cut = false;
   hp::PatternPose conic, moment, projection;
   hp::PatternPose conic_bars;  // the conic pose refined with the bar edges
   hp::BarcodeRead code;
 };
 
-Analysis analyse(const cv::Mat& grey, const gp::Radiometry& radiometry,
+// The frame streams through the device (class LUT, run mask of bars and
+// disc, whole-frame class window); the host works on its class moments and
+// run records.
+Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry& radiometry,
                  const host::CameraModel& model, const hp::PoseOptions& pose_options) {
   Analysis a;
-  const cv::Mat cls = gp::classify(grey, gp::class_lut(radiometry));
-  a.moments = hp::class_moments(cls.ptr<uint8_t>(0), cls.cols, cls.rows, cls.step[0]);
-  a.disc = hp::class_extents(cls.ptr<uint8_t>(0), cls.cols, cls.rows, cls.step[0], hp::kDisc);
-  a.runs = gp::bar_runs(grey, radiometry);
+  uint64_t cycles = 0;
+  const stream::FrameResults res =
+      device.process(grey, gp::device_config(grey.cols, grey.rows, radiometry), a.runs, cycles);
+  if (!res.valid) throw std::runtime_error("pattern: the device rejected the frame");
+  a.moments = hp::device_moments(res.class_moments);
+  a.min_bar_weight = gp::bar_run_min_weight(radiometry);
+  a.disc = hp::disc_extents_from_runs(a.runs, a.min_bar_weight);
   a.disc_cut = !a.disc.empty() && (a.disc.u_min == 0 || a.disc.v_min == 0 ||
                                    a.disc.u_max == grey.cols - 1 || a.disc.v_max == grey.rows - 1);
   a.conic = hp::conic_method(a.moments, model, pose_options);
@@ -69,6 +77,7 @@ Analysis analyse(const cv::Mat& grey, const gp::Radiometry& radiometry,
   bo.bar_contrast =
       radiometry.level(gp::PixelClass::background) - radiometry.level(gp::PixelClass::bar);
   bo.radius_m = pose_options.radius_m;
+  bo.min_bar_run_weight = a.min_bar_weight;
   a.code = hp::read_barcode(a.runs, model, grey.cols, bo);
   a.conic_bars = hp::refine_with_bars(a.conic, a.code.edges, model, pose_options);
   return a;
@@ -115,6 +124,7 @@ cv::Mat overlay(const cv::Mat& grey, const Analysis& a, const host::CameraModel&
   cv::Mat bgr;
   cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
   for (const auto& r : a.runs) {
+    if (r.sum_w < a.min_bar_weight) continue;  // the disc's runs
     cv::line(bgr, {r.x_start, r.row}, {r.x_end, r.row}, cv::Scalar(0, 160, 0), 1);
   }
   if (a.conic.status != hp::PatternStatus::no_pattern &&
@@ -150,6 +160,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
   const host::CameraModel model(camera);
   const gp::PatternGeometry geometry;
   const gp::Radiometry radiometry;
+  host::Device device(device_options(o.backend));
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   const std::vector<double> distances{1.0, 1.5, 2.0, 3.0, 4.0, 5.0};
@@ -188,7 +199,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
         const gp::PatternTruth t = gp::pattern_truth(camera, geometry, r.identity, v);
         hp::PoseOptions po = pose_options_for(geometry);
         po.up_cam = v.rotation.col(1);  // the mount's known tilt (docs/pattern.md)
-        const Analysis a = analyse(grey, radiometry, model, po);
+        const Analysis a = analyse(device, grey, radiometry, model, po);
         const hp::PatternPose* poses[4] = {&a.projection, &a.moment, &a.conic, &a.conic_bars};
         for (int m = 0; m < 4; ++m) {
           const hp::PatternPose& q = *poses[m];
@@ -450,6 +461,7 @@ int run_pattern_frames(const PatternOptions& o) {
   make_dir(o.out_dir);
   const host::CameraModel model(camera);
   const gp::Radiometry radiometry;
+  host::Device device(device_options(o.backend));
   hp::PoseOptions po = pose_options_for(db.geometry);
   // The camera is level with no swing (up = -y); the scene's ceiling keys
   // (camera_pitch_deg, heights, tape width) are not used here.
@@ -458,7 +470,7 @@ int run_pattern_frames(const PatternOptions& o) {
   cv::Mat last_overlay;
   for (const fs::path& f : frames) {
     const cv::Mat grey = read_grey_frame(f, camera.image_width, camera.image_height);
-    const Analysis a = analyse(grey, radiometry, model, po);
+    const Analysis a = analyse(device, grey, radiometry, model, po);
     FixRow r = make_fix(a, db, po.up_cam, 0.0);
     r.frame = f.filename().string();
     if (!o.quiet) std::printf("%s: %s\n", r.frame.c_str(), fix_text(r).c_str());
@@ -490,6 +502,7 @@ int run_pattern(const PatternOptions& o) {
                  {41, -3.0, -4.0, 1.25, 60 * kDeg}};
   const gp::PatternPlacement station = db.patterns[0];
   const gp::Radiometry radiometry;
+  host::Device device(device_options(o.backend));
   const fs::path out(o.out_dir);
   make_dir(out);
   make_dir(out / "frames");
@@ -527,7 +540,7 @@ int run_pattern(const PatternOptions& o) {
                      cv::Scalar(radiometry.level(gp::PixelClass::background)));
     }
     const hp::PoseOptions po = pose_options_for(db.geometry);
-    const Analysis a = analyse(grey, radiometry, model, po);
+    const Analysis a = analyse(device, grey, radiometry, model, po);
     FixRow r = make_fix(a, db, po.up_cam, pan);
     r.frame = frame_name_png(static_cast<int>(rows.size()));
     r.pan_deg = pan / kDeg;

@@ -14,6 +14,7 @@ struct PatternOptions {
   std::string database;    // pattern database YAML (with --frames; built-in scene: written)
   double noise_sigma = 3.0;
   uint64_t seed = 1;
+  std::string backend = "fast";  // fast | model | rtl (see host::DeviceOptions)
   bool quiet = false;
 };
 int run_pattern(const PatternOptions& o);
@@ -25,9 +26,10 @@ struct PatternAccuracyOptions {
   bool distortion = true;
   int betas = 2;  // co-azimuth samples per (D, theta) besides the seed's +-90 deg
   uint64_t seed = 1;
-  std::string csv;       // per-frame errors, optional
-  std::string plot;      // PNG of the error curves, optional
-  bool require = false;  // exit 1 unless the bars hold (docs/pattern.md)
+  std::string backend = "fast";  // fast | model | rtl
+  std::string csv;               // per-frame errors, optional
+  std::string plot;              // PNG of the error curves, optional
+  bool require = false;          // exit 1 unless the bars hold (docs/pattern.md)
 };
 int run_pattern_accuracy(const PatternAccuracyOptions& o);
 

@@ -4,28 +4,25 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "host/model_bus.hpp"
-
 namespace ceilnav::host {
 
-Navigator::Navigator(const CameraConfig& camera, const NavigatorOptions& options)
-    : camera_(camera), model_(camera), options_(options), pipeline_(options.fifo_depth) {
-  if (options_.backend == Backend::fast) return;
-  SimBusOptions bus_opt;
-  bus_opt.seed = options_.seed;
-  bus_opt.run_tready_low_probability = options_.backpressure_probability;
-  bus_opt.axi_timing.valid_delay_probability = options_.backpressure_probability > 0 ? 0.2 : 0.0;
-  bus_opt.axi_timing.ready_low_probability = options_.backpressure_probability > 0 ? 0.2 : 0.0;
-  if (options_.bus_factory) {
-    bus_ = options_.bus_factory(bus_opt);
-  } else if (options_.backend == Backend::model) {
-    bus_ = std::make_unique<ModelBus>(bus_opt, options_.fifo_depth);
-  } else {
-    throw std::invalid_argument("navigator: the rtl backend needs a bus factory");
-  }
-  driver_ = std::make_unique<Driver>(*bus_);
-  driver_->identify();
+namespace {
+
+DeviceOptions device_options(const NavigatorOptions& o) {
+  DeviceOptions d;
+  d.backend = o.backend;
+  d.gap_probability = o.gap_probability;
+  d.backpressure_probability = o.backpressure_probability;
+  d.seed = o.seed;
+  d.fifo_depth = o.fifo_depth;
+  d.bus_factory = o.bus_factory;
+  return d;
 }
+
+}  // namespace
+
+Navigator::Navigator(const CameraConfig& camera, const NavigatorOptions& options)
+    : camera_(camera), model_(camera), options_(options), device_(device_options(options)) {}
 
 stream::FrameResults Navigator::run_pipeline(const cv::Mat& grey, const ThresholdSettings& s,
                                              std::vector<stream::RunRecord>& runs,
@@ -37,28 +34,7 @@ stream::FrameResults Navigator::run_pipeline(const cv::Mat& grey, const Threshol
   cfg.max_runs_per_row = options_.max_runs_per_row;
   cfg.hist_source_remap = false;
   cfg = apply_threshold(cfg, s);
-  pipeline_.set_config(cfg);
-  runs.clear();
-  cycles = 0;
-
-  if (options_.backend == Backend::fast) {
-    return pipeline_.process_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], &runs);
-  }
-  // Through the registers: configure between frames, stream the frame in,
-  // wait for the interrupt, read results and runs.
-  driver_->configure(cfg);
-  const uint64_t start = bus_->cycles();
-  FrameFeed feed;
-  feed.gap_probability = options_.gap_probability;
-  feed.blanking_cycles = 16;
-  bus_->queue_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], feed);
-  FrameReadout r = driver_->read_frame();
-  if (!r.trailer_seen || !r.consistent) {
-    throw std::runtime_error("navigator: the device lost the frame's run trailer or results");
-  }
-  runs = std::move(r.runs);
-  cycles = bus_->cycles() - start;
-  return r.results;
+  return device_.process(grey, cfg, runs, cycles);
 }
 
 FrameOutcome Navigator::process(const cv::Mat& grey) {

@@ -21,14 +21,13 @@
 #include "host/bus.hpp"
 #include "host/camera_config.hpp"
 #include "host/camera_model.hpp"
+#include "host/device.hpp"
 #include "host/driver.hpp"
 #include "host/sim_bus.hpp"
 #include "host/tape_pose.hpp"
 #include "stream/pipeline.hpp"
 
 namespace ceilnav::host {
-
-enum class Backend { fast, model, rtl };
 
 struct NavigatorOptions {
   ThresholdOptions threshold;
@@ -37,13 +36,7 @@ struct NavigatorOptions {
   uint16_t min_run_length = 2;       // tunable: single-pixel runs are noise
   uint16_t max_runs_per_row = 16;
   uint32_t fifo_depth = 1024;
-  // fast: the pipeline's frame-at-a-time path, no registers (the default:
-  // fastest). model / rtl: the Driver programs the device through its
-  // registers on a Bus backend — the C++ cycle-level register model
-  // (ModelBus) or the Verilated RTL (bus_factory, see apps/) — while the frame
-  // streams in beat by beat with random tvalid gaps, run-stream back-pressure
-  // and AXI-Lite stalls (probabilities in [0, 1)). Every backend gives the
-  // same results and runs, bit for bit.
+  // The device backend and its stream timing: see DeviceOptions (host/device.hpp).
   Backend backend = Backend::fast;
   double gap_probability = 0.0;
   double backpressure_probability = 0.0;
@@ -80,9 +73,7 @@ class Navigator {
   CameraConfig camera_;
   CameraModel model_;
   NavigatorOptions options_;
-  stream::Pipeline pipeline_;  // Backend::fast
-  std::unique_ptr<Bus> bus_;   // Backend::model / rtl
-  std::unique_ptr<Driver> driver_;
+  Device device_;
   std::optional<ThresholdSettings> previous_;
 };
 

@@ -311,6 +311,23 @@ if $CEILNAV pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database 
 else
   bad "pattern --frames round trip" "$(cat "$work/pout.err")"
 fi
+# The pattern frames through every backend: the same CSV, byte for byte (the
+# host maths works on the device's class moments and run records).
+for backend in $CLI_BACKENDS; do
+  if $CEILNAV pattern --out "$work/pat_$backend" --quiet --backend $backend >"$work/pat_$backend.log" 2>&1 &&
+    cmp -s "$pat/pattern.csv" "$work/pat_$backend/pattern.csv"; then
+    ok "pattern $backend == fast CSV"
+  else
+    bad "pattern $backend == fast CSV" "$(tail -3 "$work/pat_$backend.log")"
+  fi
+  if $CEILNAV pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$pat/patterns.yaml" \
+      --out "$work/pout_$backend" --quiet --backend $backend 2>"$work/pout_$backend.err" &&
+    cmp -s "$pout/pattern.csv" "$work/pout_$backend/pattern.csv"; then
+    ok "pattern --frames $backend == fast CSV"
+  else
+    bad "pattern --frames $backend == fast CSV" "$(cat "$work/pout_$backend.err")"
+  fi
+done
 pbad2=$work/pbad2
 expect_error "pattern frames without scene" "scene" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --database "$pat/patterns.yaml" --out "$pbad2"
 expect_error "pattern scene without frames" "with --frames" "$pbad2/pattern.csv" -- pattern --scene "$pat/scene.yaml" --out "$pbad2"
@@ -328,6 +345,11 @@ sed 's/image_width: 640/image_width: 320/' "$pat/scene.yaml" >"$work/scene320.ya
 expect_error "pattern frame size mismatch" "size|width|320" "$pbad2/pattern.csv" -- pattern --frames "$work/psmall" --scene "$work/scene320.yaml" --database "$pat/patterns.yaml" --out "$pbad2"
 expect_error "pattern negative noise" "noise" "" -- pattern --noise -1 --out "$pbad2"
 expect_error "pattern without out" "out" "" -- pattern
+expect_error "pattern unknown backend" "--backend: foo not in" "$pbad2/pattern.csv" -- pattern --backend foo --out "$pbad2"
+expect_error "pattern-accuracy unknown backend" "--backend: foo not in" "" -- pattern-accuracy --backend foo
+if [ "$CLI_BACKENDS" = "${CLI_BACKENDS/rtl/}" ]; then
+  expect_error "pattern rtl backend not built" "built without the Verilated RTL backend" "$pbad2/pattern.csv" -- pattern --backend rtl --out "$pbad2"
+fi
 expect_error "pattern-accuracy width" "width" "" -- pattern-accuracy --width 10
 expect_error "pattern-accuracy noise" "noise" "" -- pattern-accuracy --noise -2
 expect_error "pattern-accuracy csv folder missing" "writable|folder|exist" "$work/nodir/p.csv" -- pattern-accuracy --csv "$work/nodir/p.csv"

@@ -267,8 +267,9 @@ std::array<stream::LutEntry, 256> bar_mask_lut(const Radiometry& r) {
   const std::array<uint8_t, 256> cls = class_lut(r);
   std::array<stream::LutEntry, 256> lut{};
   for (unsigned g = 0; g < 256; ++g) {
-    lut[g] = stream::lut_entry(static_cast<uint8_t>(255 - g),
-                               cls[g] == static_cast<uint8_t>(PixelClass::bar));
+    const bool mask = cls[g] == static_cast<uint8_t>(PixelClass::bar) ||
+                      cls[g] == static_cast<uint8_t>(PixelClass::pattern);
+    lut[g] = stream::lut_entry(static_cast<uint8_t>(255 - g), mask, cls[g]);
   }
   return lut;
 }
@@ -286,17 +287,38 @@ cv::Mat classify(const cv::Mat& grey, const std::array<uint8_t, 256>& lut) {
   return out;
 }
 
-std::vector<stream::RunRecord> bar_runs(const cv::Mat& grey, const Radiometry& r) {
-  if (grey.type() != CV_8UC1) throw std::invalid_argument("bar_runs: needs an 8-bit grey frame");
+stream::PipelineConfig device_config(int width, int height, const Radiometry& r) {
+  if (width < 1 || width > static_cast<int>(stream::kMaxWidth) || height < 1 ||
+      height > static_cast<int>(stream::kMaxHeight)) {
+    throw std::invalid_argument("device_config: frame size out of the device's range");
+  }
   stream::PipelineConfig cfg;
-  cfg.width = static_cast<uint16_t>(grey.cols);
-  cfg.height = static_cast<uint16_t>(grey.rows);
+  cfg.width = static_cast<uint16_t>(width);
+  cfg.height = static_cast<uint16_t>(height);
   cfg.lut = bar_mask_lut(r);
   cfg.background_level = bar_run_background(r);
+  // A disc run must weigh nothing and a bar run something: the reader tells
+  // them apart by the weight.
+  const ClassThresholds t = class_thresholds(r);
+  if (255 - t.pattern_from > cfg.background_level ||
+      255 - (t.bar_below - 1) <= cfg.background_level) {
+    throw std::invalid_argument("device_config: disc and bar run weights overlap");
+  }
   cfg.min_run_length = 1;
   cfg.max_runs_per_row = 32;
+  cfg.class_window = {0, static_cast<uint16_t>(width), 0, static_cast<uint16_t>(height)};
+  return cfg;
+}
+
+uint32_t bar_run_min_weight(const Radiometry& r) {
+  const ClassThresholds t = class_thresholds(r);
+  return static_cast<uint32_t>(255 - (t.bar_below - 1) - bar_run_background(r));
+}
+
+std::vector<stream::RunRecord> bar_runs(const cv::Mat& grey, const Radiometry& r) {
+  if (grey.type() != CV_8UC1) throw std::invalid_argument("bar_runs: needs an 8-bit grey frame");
   stream::Pipeline pipeline;
-  pipeline.set_config(cfg);
+  pipeline.set_config(device_config(grey.cols, grey.rows, r));
   std::vector<stream::RunRecord> runs;
   pipeline.process_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], &runs);
   return runs;

@@ -115,6 +115,36 @@ std::string_view to_string(PatternStatus s) {
   return "unknown";
 }
 
+FrameMoments device_moments(const stream::ClassMomentResults& r) {
+  FrameMoments out{};
+  for (int c = 1; c < kClasses; ++c) {
+    const auto& m = r.of(c);
+    auto as_int = [](uint64_t v) { return static_cast<int64_t>(v); };
+    out[static_cast<std::size_t>(c)] = {as_int(m[stream::kM00]), as_int(m[stream::kM10]),
+                                        as_int(m[stream::kM01]), as_int(m[stream::kM20]),
+                                        as_int(m[stream::kM11]), as_int(m[stream::kM02])};
+  }
+  return out;
+}
+
+Extents disc_extents_from_runs(std::span<const stream::RunRecord> runs, uint32_t min_bar_weight) {
+  Extents e;
+  bool any = false;
+  for (const auto& r : runs) {
+    if (r.sum_w >= min_bar_weight) continue;
+    if (!any) {
+      e = {r.x_start, r.x_end, r.row, r.row};
+      any = true;
+      continue;
+    }
+    e.u_min = std::min<int>(e.u_min, r.x_start);
+    e.u_max = std::max<int>(e.u_max, r.x_end);
+    e.v_min = std::min<int>(e.v_min, r.row);
+    e.v_max = std::max<int>(e.v_max, r.row);
+  }
+  return e;
+}
+
 FrameMoments class_moments(const uint8_t* classes, int width, int height, std::size_t stride) {
   FrameMoments m{};
   for (int y = 0; y < height; ++y) {
@@ -533,9 +563,13 @@ BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraMo
   BarcodeRead out;
   if (runs.empty()) return out;
   std::map<int, std::vector<const stream::RunRecord*>> rows;
-  for (const auto& r : runs) rows[r.row].push_back(&r);
+  for (const auto& r : runs) {
+    if (o.bar_contrast > 0.0 && r.sum_w < o.min_bar_run_weight) continue;  // the disc's runs
+    rows[r.row].push_back(&r);
+  }
   std::map<int, int> votes;
-  std::map<int, std::vector<BarEdge>> row_edges;
+  // Bar centres per decoded block, keyed by (side: 0 left, 1 right; value).
+  std::map<std::pair<int, int>, std::vector<BarEdge>> block_edges_seen;
   int left_seen = 0, right_seen = 0, any_block = 0;
   for (auto& [row, rs] : rows) {
     std::sort(rs.begin(), rs.end(),
@@ -599,58 +633,100 @@ BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraMo
     }
     if (blocks.empty()) continue;
     ++any_block;
+    // Bar centres (sum(x w) / sum(w): unbiased by the threshold and by the
+    // ink-width estimate) with their pattern-frame x, kept per block for the
+    // identity chosen below.
+    auto keep_block = [&](std::size_t b) {
+      const double u = o.bar_unit_m;
+      const double outer = o.radius_m + o.bar_gap_m + 15.0 * u;
+      const bool left = blocks[b].left_type;
+      const auto e = block_edges(blocks[b].value);
+      auto& dst = block_edges_seen[{left ? 0 : 1, blocks[b].value}];
+      for (std::size_t k = 0; k < 6; ++k) {
+        const auto& pts = points[block_first[b] + k];
+        const Eigen::Vector2d mid = 0.5 * (pts[0] + pts[1]);
+        const double x0 = left ? -outer + e[2 * k] * u : outer - e[11 - 2 * k] * u;
+        const double x1 = left ? -outer + e[2 * k + 1] * u : outer - e[10 - 2 * k] * u;
+        dst.push_back({mid.x(), mid.y(), x0, x1, row, pts[1].x() - pts[0].x()});
+      }
+    };
     if (blocks.size() == 2 && blocks[0].left_type && !blocks[1].left_type) {
       const int left = blocks[0].value, right = blocks[1].value;
       const int low = right / 2;
       if (right % 2 == (left + low) % 2) {
-        const int id = left * 5 + low;
-        ++votes[id];
+        ++votes[left * 5 + low];
         ++out.full_rows;
-        // Bar centres (sum(x w) / sum(w): unbiased by the threshold and by
-        // the ink-width estimate) with their pattern-frame x, kept for the
-        // identity chosen below.
-        const double u = o.bar_unit_m;
-        const double outer = o.radius_m + o.bar_gap_m + 15.0 * u;
-        for (int blk = 0; blk < 2; ++blk) {
-          const auto e = block_edges(blocks[static_cast<std::size_t>(blk)].value);
-          for (std::size_t k = 0; k < 6; ++k) {
-            const auto& pts = points[block_first[static_cast<std::size_t>(blk)] + k];
-            const Eigen::Vector2d mid = 0.5 * (pts[0] + pts[1]);
-            const double x0 = blk == 0 ? -outer + e[2 * k] * u : outer - e[11 - 2 * k] * u;
-            const double x1 = blk == 0 ? -outer + e[2 * k + 1] * u : outer - e[10 - 2 * k] * u;
-            row_edges[id].push_back({mid.x(), mid.y(), x0, x1, row, pts[1].x() - pts[0].x()});
-          }
-        }
+        keep_block(0);
+        keep_block(1);
       } else {
         ++out.bad_rows;
       }
     } else if (blocks.size() == 1) {
       ++out.partial_rows;
       (blocks[0].left_type ? left_seen : right_seen)++;
+      keep_block(0);  // used when its value is the identity's (a row need not cross both blocks)
     } else {
       ++out.bad_rows;  // inconsistent block order or count
     }
   }
+  // The identity read: every row's block of the identity's values gives bar
+  // centres, full rows or not (with the view slanted few rows cross both
+  // blocks); rows at the ends of a block's bars are partly covered: left out.
+  auto accept = [&](int identity) {
+    out.status = PatternStatus::ok;
+    out.identity = identity;
+    const int left = identity / 5, low = identity % 5;
+    const int right = 2 * low + (left + low) % 2;
+    for (const auto& key : {std::pair{0, left}, std::pair{1, right}}) {
+      const auto it = block_edges_seen.find(key);
+      if (it == block_edges_seen.end()) continue;
+      int first_row = 1 << 30, last_row = -1;
+      for (const BarEdge& e : it->second) {
+        first_row = std::min(first_row, e.row);
+        last_row = std::max(last_row, e.row);
+      }
+      for (const BarEdge& e : it->second) {
+        if (e.row > first_row + 2 && e.row < last_row - 2) out.edges.push_back(e);
+      }
+    }
+    return out;
+  };
   if (out.full_rows > 0) {
     auto best = std::max_element(votes.begin(), votes.end(),
                                  [](const auto& a, const auto& b) { return a.second < b.second; });
     const int agree = best->second;
     const int disagree = out.full_rows - agree + out.bad_rows;
     if (agree >= o.min_full_rows && disagree <= o.max_bad_row_fraction * (agree + disagree)) {
-      out.status = PatternStatus::ok;
-      out.identity = best->first;
-      // Rows at the ends of the bars are partly covered: left out.
-      std::vector<BarEdge>& all = row_edges[best->first];
-      int first_row = 1 << 30, last_row = -1;
-      for (const BarEdge& e : all) {
-        first_row = std::min(first_row, e.row);
-        last_row = std::max(last_row, e.row);
-      }
-      for (const BarEdge& e : all) {
-        if (e.row > first_row + 2 && e.row < last_row - 2) out.edges.push_back(e);
-      }
-      return out;
+      return accept(best->first);
     }
+  }
+  // Per block: the left value and the right value each read on enough rows,
+  // by the same majority rule (rows with an inconsistent block pair count
+  // against both), then the parity across the blocks.
+  std::map<int, int> side_votes[2];
+  int side_rows[2] = {0, 0};
+  for (const auto& [key, seen] : block_edges_seen) {
+    const int n = static_cast<int>(seen.size() / kBarsPerBlock);
+    side_votes[key.first][key.second] = n;
+    side_rows[key.first] += n;
+  }
+  if (!side_votes[0].empty() && !side_votes[1].empty()) {
+    int value[2] = {-1, -1};
+    bool consistent = true;
+    for (int side = 0; side < 2; ++side) {
+      const auto best =
+          std::max_element(side_votes[side].begin(), side_votes[side].end(),
+                           [](const auto& a, const auto& b) { return a.second < b.second; });
+      const int agree = best->second;
+      const int disagree = side_rows[side] - agree + out.bad_rows;
+      consistent = consistent && agree >= o.min_full_rows &&
+                   disagree <= o.max_bad_row_fraction * (agree + disagree);
+      value[side] = best->first;
+    }
+    const int low = value[1] / 2;
+    if (consistent && value[1] % 2 == (value[0] + low) % 2) return accept(value[0] * 5 + low);
+  }
+  if (out.full_rows > 0) {
     out.status = PatternStatus::unreadable;
     return out;
   }
@@ -674,13 +750,18 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
   if (!axes0) return conic;
   const double f = std::sqrt(camera.fx() * camera.fy());
   const double sigma_edge = 0.15 / f;  // normalised units
+  // The conic's centre, 0.3 % of D in each coordinate: pins the slide along
+  // y, and holds the distance where the bars are weak (far, small theta: they
+  // fix the horizontal scale f cos(theta) / D, so a theta error from slightly
+  // biased centroids moved D with it; 0.44-0.47 % at 4-5 m with the slide
+  // alone constrained).
   const double sigma_slide = 0.003 * conic.centre_cam.norm();
   const double sigma_normal = 1.0 * kPi / 180.0;
   const Eigen::Vector3d c0 = conic.centre_cam, n0 = conic.normal_cam;
   Eigen::Matrix3d a = *axes0;
   Eigen::Vector3d t = c0;
   double bias = 0.0;  // metres: a common shift along x (pattern printing offset)
-  const std::size_t n_res = edges.size() + 5;
+  const std::size_t n_res = edges.size() + 7;
   std::vector<double> weight(edges.size(), 1.0);
   // Bars narrower than 2 px are left out: their gaps are about as narrow, so
   // the run's one-pixel margin takes in the neighbours' ink and biases the
@@ -711,9 +792,9 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
       r(static_cast<Eigen::Index>(i)) = weight[i] * d * inv_sigma[i];
     }
     const auto k = static_cast<Eigen::Index>(edges.size());
-    r(k) = (tt - c0).dot(a2) / sigma_slide;
-    r.segment<3>(k + 1) = (a3 - n0) / sigma_normal;
-    r(k + 4) = bb / 1e-4;  // a shift along x is a translation along a1: pinned
+    r.segment<3>(k) = (tt - c0) / sigma_slide;
+    r.segment<3>(k + 3) = (a3 - n0) / sigma_normal;
+    r(k + 6) = bb / 1e-4;  // a shift along x is a translation along a1: pinned
   };
   auto apply = [](const Eigen::Matrix3d& aa, const Eigen::Vector3d& tt, double bb,
                   const Eigen::Matrix<double, 7, 1>& d, Eigen::Matrix3d& a2, Eigen::Vector3d& t2,

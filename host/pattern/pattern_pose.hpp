@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "host/camera_model.hpp"
+#include "stream/results.hpp"
 #include "stream/run_record.hpp"
 
 namespace ceilnav::host::pattern {
@@ -36,12 +37,22 @@ using FrameMoments = std::array<ClassMoments, kClasses>;
 // in 64-bit integers (tools and tests; the hardware supplies the same numbers).
 FrameMoments class_moments(const uint8_t* classes, int width, int height, std::size_t stride);
 
+// The device's class moments (stream::FrameResults::class_moments) in the
+// same form; the background (not measured by the device) is left zero.
+FrameMoments device_moments(const stream::ClassMomentResults& r);
+
 // Bounding box of a class's pixels (the seed's projections), inclusive.
 struct Extents {
   int u_min = 0, u_max = -1, v_min = 0, v_max = -1;
   bool empty() const { return u_max < u_min; }
 };
 Extents class_extents(const uint8_t* classes, int width, int height, std::size_t stride, int cls);
+// The same for the disc from the device's run records: with the pattern's
+// device configuration (golden::pattern::device_config) the disc is in the
+// run mask with no ink (only its margins weigh), the bars with their ink:
+// runs lighter than min_bar_weight (golden::pattern::bar_run_min_weight) are
+// the disc's.
+Extents disc_extents_from_runs(std::span<const stream::RunRecord> runs, uint32_t min_bar_weight);
 
 enum class PatternStatus {
   ok,
@@ -119,7 +130,9 @@ struct CirclePose {
 std::vector<CirclePose> circle_poses_from_conic(const Eigen::Matrix3d& q, double r);
 Eigen::Matrix3d conic_from_ellipse(const Ellipse& e);
 
-// Bar-code reader on the run records (mask = bar class), docs/pattern.md.
+// Bar-code reader on the run records (mask = bar class; with bar_contrast > 0
+// runs lighter than min_bar_run_weight, the disc's, are skipped),
+// docs/pattern.md.
 struct BarcodeOptions {
   int min_full_rows = 3;              // rows with both blocks decoded
   double max_bad_row_fraction = 0.1;  // rows disagreeing with the majority -> unreadable
@@ -130,6 +143,9 @@ struct BarcodeOptions {
   // Run weight of a full bar pixel (plate level - bar level in the LUT remap,
   // golden::pattern::bar_mask_lut); > 0: sub-pixel edges from sum_w, sum_xw.
   double bar_contrast = 0.0;
+  // With bar_contrast > 0: runs lighter than this are not bars (the disc's
+  // runs with golden::pattern::device_config; bar_run_min_weight).
+  uint32_t min_bar_run_weight = 1;
 };
 // One bar seen on a row: normalised (undistorted) image point of its ink
 // centroid, the bar's pattern-frame x extent, the image row, its width along
@@ -155,9 +171,11 @@ BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraMo
 // dimensions "for double checking or averaging"): Gauss-Newton on the
 // rotation, translation and the edges' threshold bias, minimising each
 // edge's distance to the image of its pattern line x = x_pat (which fixes
-// everything but the slide along y), with the conic's centre fixing that
-// slide and the conic's normal as a prior. Returns `conic` unchanged unless
-// it is ok or ambiguous and there are >= 48 edges.
+// everything but the slide along y), with the conic's centre (all three
+// coordinates: it fixes that slide, and its distance, from the unforeshortened
+// major axis, holds D where the bars only fix cos(theta) / D) and the conic's
+// normal as priors. Returns `conic` unchanged unless it is ok or ambiguous and
+// there are >= 48 edges.
 PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> edges,
                              const CameraModel& camera, const PoseOptions& o);
 

@@ -74,8 +74,9 @@ TEST(PatternLut, NominalLevelsAndFalloffRangeMapToTheirClasses) {
   }
   const auto mask = bar_mask_lut(r);
   for (unsigned g = 0; g < 256; ++g) {
-    EXPECT_EQ((mask[g] & stream::kLutMaskBit) != 0, lut[g] == 3);
+    EXPECT_EQ((mask[g] & stream::kLutMaskBit) != 0, lut[g] == 3 || lut[g] == 1);
     EXPECT_EQ(mask[g] & stream::kLutRemapMask, 255 - g);
+    EXPECT_EQ(stream::lut_class(mask[g]), lut[g]);
   }
   Radiometry bad;
   bad.albedo_shadow = 0.1;  // darker than the wall: order broken

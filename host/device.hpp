@@ -1,0 +1,62 @@
+// The device as the host uses it for one frame: program a PipelineConfig,
+// stream a grey frame through it, collect the result registers and the run
+// records. One interface over the three backends (the tape Navigator and the
+// pattern commands share it).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "host/bus.hpp"
+#include "host/driver.hpp"
+#include "host/sim_bus.hpp"
+#include "stream/pipeline.hpp"
+
+namespace ceilnav::host {
+
+enum class Backend { fast, model, rtl };
+
+struct DeviceOptions {
+  // fast: the pipeline's frame-at-a-time path, no registers (the default:
+  // fastest). model / rtl: the Driver programs the device through its
+  // registers on a Bus backend — the C++ cycle-level register model
+  // (ModelBus) or the Verilated RTL (bus_factory, see apps/) — while the frame
+  // streams in beat by beat with random tvalid gaps, run-stream back-pressure
+  // and AXI-Lite stalls (probabilities in [0, 1)). Every backend gives the
+  // same results and runs, bit for bit.
+  Backend backend = Backend::fast;
+  double gap_probability = 0.0;
+  double backpressure_probability = 0.0;
+  uint64_t seed = 1;
+  uint32_t fifo_depth = 1024;
+  // Creates the Bus for Backend::rtl (and, if set, for Backend::model).
+  std::function<std::unique_ptr<Bus>(const SimBusOptions&)> bus_factory;
+};
+
+class Device {
+ public:
+  // Bus backends: creates the bus and identifies the device (throws
+  // std::runtime_error if it is not a ceilnav device; std::invalid_argument
+  // for rtl without a bus factory).
+  explicit Device(const DeviceOptions& options = {});
+
+  // Processes one frame with `cfg` (its width and height must be the frame's:
+  // std::invalid_argument otherwise). `runs` receives the frame's runs in
+  // stream order; `cycles` the device clock cycles spent (0 on fast).
+  stream::FrameResults process(const cv::Mat& grey, const stream::PipelineConfig& cfg,
+                               std::vector<stream::RunRecord>& runs, uint64_t& cycles);
+
+  const DeviceOptions& options() const { return options_; }
+
+ private:
+  DeviceOptions options_;
+  stream::Pipeline pipeline_;  // Backend::fast
+  std::unique_ptr<Bus> bus_;   // Backend::model / rtl
+  std::unique_ptr<Driver> driver_;
+};
+
+}  // namespace ceilnav::host
