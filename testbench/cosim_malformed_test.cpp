@@ -32,64 +32,11 @@ using stream::VideoBeat;
 
 constexpr int kWidth = 32;
 constexpr int kHeight = 24;
-constexpr uint64_t kLoopLimitCycles = 200'000;
 
-// The device in lockstep with its model (TopCosim), plus a video queue, a
-// scripted bus and a log of the run stream.
-class Bench {
+// The bench (run back-pressure set per test), plus the counter registers.
+class Bench : public DeviceBench {
  public:
-  explicit Bench(uint64_t seed) : top_(seed, "ceilnav_top_malformed"), rng_(seed) {}
-
-  Rng& rng() { return rng_; }
-  Cosim<Vceilnav_top>& sim() { return top_.sim(); }
-  void hard_reset() { top_.hard_reset(); }
-  std::deque<VideoBeat>& video() { return video_; }
-  std::vector<stream::RunBeat>& runs_log() { return runs_log_; }
-  void set_tready_p(double p) { tready_p_ = p; }
-
-  void step() {
-    VideoBeat beat;
-    if (!video_.empty()) {
-      beat = video_.front();
-      video_.pop_front();
-    }
-    const bool tready = rng_.chance(tready_p_);
-    const stream::RunBeat runs = top_.model().m_axis_runs();
-    if (runs.tvalid && tready) runs_log_.push_back(runs);
-    top_.step(beat, tready);
-    if (top_.sim().cycle() > limit_) top_.sim().fail("bench ran past its cycle limit");
-  }
-
-  uint32_t read(uint32_t addr) {
-    top_.master().start_read(addr);
-    wait_bus();
-    EXPECT_EQ(top_.master().resp(), r::kRespOkay) << "read of 0x" << std::hex << addr;
-    return top_.master().rdata();
-  }
-  void write(uint32_t addr, uint32_t data) {
-    top_.master().start_write(addr, data, 0xF);
-    wait_bus();
-    EXPECT_EQ(top_.master().resp(), r::kRespOkay) << "write of 0x" << std::hex << addr;
-  }
-  uint64_t read64(uint32_t lo_addr) {
-    const uint64_t lo = read(lo_addr);
-    return lo | (uint64_t{read(lo_addr + 4)} << 32);
-  }
-
-  // Until the video queue is empty and the results of its last frame are
-  // published (EOF -> INTR_STATE.FRAME_DONE: kEofToIntrCycles edges).
-  void drain_video() {
-    while (!video_.empty() && !top_.sim().failed()) step();
-    for (int k = 0; k < stream::CeilnavTop::kEofToIntrCycles + 4; ++k) step();
-  }
-  // Until the run FIFO and its output register are empty.
-  void drain_runs() {
-    while (
-        (top_.model().pipeline().run_fifo_occupancy() != 0 || top_.model().m_axis_runs().tvalid) &&
-        !top_.sim().failed()) {
-      step();
-    }
-  }
+  explicit Bench(uint64_t seed) : DeviceBench(seed, "ceilnav_top_malformed", 1.0) {}
 
   FrameErrorCounters counters() {
     FrameErrorCounters c;
@@ -111,20 +58,6 @@ class Bench {
     c.frames_aborted = read(r::res_frames_aborted::kOffset);
     return c;
   }
-
- private:
-  void wait_bus() {
-    do {
-      step();
-    } while (!top_.master().idle() && !top_.sim().failed());
-  }
-
-  TopCosim top_;
-  Rng rng_;
-  std::deque<VideoBeat> video_;
-  std::vector<stream::RunBeat> runs_log_;
-  double tready_p_ = 1.0;
-  uint64_t limit_ = kLoopLimitCycles;
 };
 
 // Dark noise with bright rectangles (runs for the scanner, a spread histogram).

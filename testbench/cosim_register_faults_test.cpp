@@ -26,41 +26,10 @@ namespace r = regs;
 using stream::PipelineConfig;
 using stream::VideoBeat;
 
-constexpr uint64_t kLoopLimitCycles = 200'000;
-
-class Bench {
+// The bench: run back-pressure with tready 0.7 throughout.
+class Bench : public DeviceBench {
  public:
-  explicit Bench(uint64_t seed) : top_(seed, "ceilnav_top_register_faults"), rng_(seed) {}
-
-  Rng& rng() { return rng_; }
-  Cosim<Vceilnav_top>& sim() { return top_.sim(); }
-  std::deque<VideoBeat>& video() { return video_; }
-
-  void step() {
-    VideoBeat beat;
-    if (!video_.empty()) {
-      beat = video_.front();
-      video_.pop_front();
-    }
-    const bool tready = rng_.chance(0.7);
-    const stream::RunBeat runs = top_.model().m_axis_runs();
-    if (runs.tvalid && tready) runs_log_.push_back(runs);
-    top_.step(beat, tready);
-    if (top_.sim().cycle() > kLoopLimitCycles) top_.sim().fail("bench ran past its cycle limit");
-  }
-
-  uint32_t read(uint32_t addr, uint8_t want_resp = r::kRespOkay) {
-    top_.master().start_read(addr);
-    wait_bus();
-    EXPECT_EQ(top_.master().resp(), want_resp) << "read of 0x" << std::hex << addr;
-    return top_.master().rdata();
-  }
-  void write(uint32_t addr, uint32_t data, uint8_t strb = 0xF, uint8_t want_resp = r::kRespOkay) {
-    top_.master().start_write(addr, data, strb);
-    wait_bus();
-    EXPECT_EQ(top_.master().resp(), want_resp)
-        << "write of 0x" << std::hex << addr << " strb 0x" << unsigned{strb};
-  }
+  explicit Bench(uint64_t seed) : DeviceBench(seed, "ceilnav_top_register_faults", 0.7) {}
 
   // Every register without a read side effect (HIST_DATA and RUN_WORD3 move
   // an index / pop the FIFO), in map order.
@@ -71,41 +40,6 @@ class Bench {
     }
     return values;
   }
-
-  // Until the video queue is empty and its last frame is published.
-  void drain_video() {
-    while (!video_.empty() && !top_.sim().failed()) step();
-    for (int k = 0; k < stream::CeilnavTop::kEofToIntrCycles + 4; ++k) step();
-  }
-  // The run records of the last frame whose trailer has left m_axis_runs.
-  std::vector<stream::RunRecord> last_frame_runs() {
-    while (
-        (top_.model().pipeline().run_fifo_occupancy() != 0 || top_.model().m_axis_runs().tvalid) &&
-        !top_.sim().failed()) {
-      step();
-    }
-    std::vector<stream::RunRecord> out;
-    if (runs_log_.empty() || !runs_log_.back().tlast) return out;
-    size_t first = runs_log_.size() - 1;
-    while (first > 0 && !runs_log_[first - 1].tlast) --first;
-    for (size_t i = first; i + 1 < runs_log_.size(); ++i) out.push_back(runs_log_[i].tdata);
-    return out;
-  }
-  bool frame_streaming() const {
-    return std::any_of(video_.begin(), video_.end(), [](const VideoBeat& v) { return v.tvalid; });
-  }
-
- private:
-  void wait_bus() {
-    do {
-      step();
-    } while (!top_.master().idle() && !top_.sim().failed());
-  }
-
-  TopCosim top_;
-  Rng rng_;
-  std::deque<VideoBeat> video_;
-  std::vector<stream::RunBeat> runs_log_;
 };
 
 // Dark noise with bright rectangles (at least 4 pixels wide where the

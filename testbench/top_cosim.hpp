@@ -4,12 +4,19 @@
 // cycle and every output port compared after every edge. See docs/cosim.md.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "ceilnav/regs.hpp"
 
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
 #include "stream/ceilnav_top.hpp"
+#include "stream/run_record.hpp"
 #include "stream/run_scanner.hpp"
 #include "testbench/cosim_common.hpp"
 
@@ -103,6 +110,99 @@ class TopCosim {
   Cosim<Vceilnav_top> sim_;
   stream::CeilnavTop model_;
   stream::AxiLiteMaster master_;
+};
+
+// A scripted device bench on TopCosim: a video queue (one beat per edge), a
+// blocking register bus, random m_axis_runs back-pressure and a log of the
+// run stream. Used by the malformed-stream and register-fault tests.
+class DeviceBench {
+ public:
+  static constexpr uint64_t kLoopLimitCycles = 200'000;
+
+  DeviceBench(uint64_t seed, const char* name, double tready_p)
+      : top_(seed, name), rng_(seed), tready_p_(tready_p) {}
+
+  Rng& rng() { return rng_; }
+  Cosim<Vceilnav_top>& sim() { return top_.sim(); }
+  const stream::CeilnavTop& model() const { return top_.model(); }
+  void hard_reset() { top_.hard_reset(); }
+  std::deque<stream::VideoBeat>& video() { return video_; }
+  std::vector<stream::RunBeat>& runs_log() { return runs_log_; }
+  void set_tready_p(double p) { tready_p_ = p; }
+
+  // One edge: the next queued video beat (or a gap) and a random run tready.
+  void step() {
+    stream::VideoBeat beat;
+    if (!video_.empty()) {
+      beat = video_.front();
+      video_.pop_front();
+    }
+    const bool tready = rng_.chance(tready_p_);
+    const stream::RunBeat runs = top_.model().m_axis_runs();
+    if (runs.tvalid && tready) runs_log_.push_back(runs);
+    top_.step(beat, tready);
+    if (top_.sim().cycle() > kLoopLimitCycles) top_.sim().fail("bench ran past its cycle limit");
+  }
+
+  uint32_t read(uint32_t addr, uint8_t want_resp = regs::kRespOkay) {
+    top_.master().start_read(addr);
+    wait_bus();
+    EXPECT_EQ(top_.master().resp(), want_resp) << "read of 0x" << std::hex << addr;
+    return top_.master().rdata();
+  }
+  void write(uint32_t addr, uint32_t data, uint8_t strb = 0xF,
+             uint8_t want_resp = regs::kRespOkay) {
+    top_.master().start_write(addr, data, strb);
+    wait_bus();
+    EXPECT_EQ(top_.master().resp(), want_resp)
+        << "write of 0x" << std::hex << addr << " strb 0x" << unsigned{strb};
+  }
+  uint64_t read64(uint32_t lo_addr) {
+    const uint64_t lo = read(lo_addr);
+    return lo | (uint64_t{read(lo_addr + 4)} << 32);
+  }
+
+  // Until the video queue is empty and the results of its last frame are
+  // published (EOF -> INTR_STATE.FRAME_DONE: kEofToIntrCycles edges).
+  void drain_video() {
+    while (!video_.empty() && !top_.sim().failed()) step();
+    for (int k = 0; k < stream::CeilnavTop::kEofToIntrCycles + 4; ++k) step();
+  }
+  // Until the run FIFO and its output register are empty.
+  void drain_runs() {
+    while (
+        (top_.model().pipeline().run_fifo_occupancy() != 0 || top_.model().m_axis_runs().tvalid) &&
+        !top_.sim().failed()) {
+      step();
+    }
+  }
+  // The run records of the last frame whose trailer has left m_axis_runs.
+  std::vector<stream::RunRecord> last_frame_runs() {
+    drain_runs();
+    std::vector<stream::RunRecord> out;
+    if (runs_log_.empty() || !runs_log_.back().tlast) return out;
+    size_t first = runs_log_.size() - 1;
+    while (first > 0 && !runs_log_[first - 1].tlast) --first;
+    for (size_t i = first; i + 1 < runs_log_.size(); ++i) out.push_back(runs_log_[i].tdata);
+    return out;
+  }
+  bool frame_streaming() const {
+    return std::any_of(video_.begin(), video_.end(),
+                       [](const stream::VideoBeat& v) { return v.tvalid; });
+  }
+
+ private:
+  void wait_bus() {
+    do {
+      step();
+    } while (!top_.master().idle() && !top_.sim().failed());
+  }
+
+  TopCosim top_;
+  Rng rng_;
+  std::deque<stream::VideoBeat> video_;
+  std::vector<stream::RunBeat> runs_log_;
+  double tready_p_;
 };
 
 }  // namespace ceilnav::testbench
