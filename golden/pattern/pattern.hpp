@@ -125,6 +125,12 @@ stream::PipelineConfig device_config(int width, int height, const Radiometry& r)
 // the rim would need to be 5 sigma dark at sigma 3 to weigh half of it):
 // runs lighter than this are the disc's.
 uint32_t bar_run_min_weight(const Radiometry& r);
+// Grey levels within this of the wall weigh nothing on the bright side, and
+// within this of the disc count as full disc (bar_mask_lut).
+inline constexpr double kCoverageDeadZone = 9.0;
+// A full disc pixel's run weight with device_config (255 - background): a
+// disc run's sum_w / this is its chord in pixels, sum_xw / sum_w its centroid.
+uint32_t disc_coverage_weight(const Radiometry& r);
 
 // The run records of a grey frame with device_config (stream::Pipeline's
 // frame-at-a-time path): bar runs and zero-weight disc runs.
