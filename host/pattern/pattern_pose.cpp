@@ -503,6 +503,9 @@ std::pair<std::vector<stream::RunRecord>, std::vector<stream::RunRecord>> split_
 
 namespace {
 
+// Fewer usable rows: the disc is too flat in the image for row chords (its
+// edges shallow over most of the outline); the moments' ellipse is kept.
+constexpr std::size_t kMinOutlineRows = 24;
 // Rows whose chord needs a larger curvature correction (px) are left out.
 constexpr double kMaxChordCorrection = 0.3;
 
@@ -561,7 +564,7 @@ std::optional<Ellipse> ellipse_from_disc_runs(std::span<const stream::RunRecord>
     pts.push_back(camera.normalise(a, static_cast<double>(r.row)));
     pts.push_back(camera.normalise(a + len, static_cast<double>(r.row)));
   }
-  if (pts.size() < 24) return std::nullopt;
+  if (pts.size() < 2 * kMinOutlineRows) return std::nullopt;
   // Conic A x^2 + B xy + C y^2 + D x + E y + F = 0 about the points' mean,
   // scaled; smallest singular vector, reweighted by 1 / |grad|^2 (Sampson).
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
