@@ -136,7 +136,8 @@ PatternPose conic_method(const FrameMoments& m, const CameraModel& camera, const
 // chord'' (1/24 + sigma^2/2)); rows within 1 px of the ellipse's top and bottom and
 // runs at the image border are left out. The edge points go through the
 // camera model and a conic is fitted (algebraic, Sampson-reweighted). Empty
-// when fewer than 12 rows remain or the fit is not an ellipse.
+// when fewer than 24 rows remain (a flat disc: the moments are better) or
+// the fit is not an ellipse.
 std::optional<Ellipse> ellipse_from_disc_runs(std::span<const stream::RunRecord> disc_runs,
                                               const ClassMoments& disc, uint32_t k, int width,
                                               double psf_sigma_px, const CameraModel& camera);
