@@ -62,10 +62,18 @@ Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry
   if (!res.valid) throw std::runtime_error("pattern: the device rejected the frame");
   a.moments = hp::device_moments(res.class_moments);
   a.min_bar_weight = gp::bar_run_min_weight(radiometry);
-  a.disc = hp::disc_extents_from_runs(a.runs, a.min_bar_weight);
+  auto [disc_runs, bar_runs] = hp::split_disc_runs(a.runs, a.moments[hp::kDisc]);
+  a.disc = hp::disc_extents_from_runs(disc_runs);
   a.disc_cut = !a.disc.empty() && (a.disc.u_min == 0 || a.disc.v_min == 0 ||
                                    a.disc.u_max == grey.cols - 1 || a.disc.v_max == grey.rows - 1);
   a.conic = hp::conic_method(a.moments, model, pose_options);
+  if (a.conic.status != hp::PatternStatus::no_pattern) {
+    // The sub-pixel outline from the disc runs' coverage weights when it fits.
+    const auto outline = hp::ellipse_from_disc_runs(disc_runs, a.moments[hp::kDisc],
+                                                    gp::disc_coverage_weight(radiometry), grey.cols,
+                                                    pose_options.psf_sigma_px, model);
+    if (outline) a.conic = hp::conic_method(*outline, a.moments, model, pose_options);
+  }
   a.moment = hp::moment_method(a.moments, model, pose_options);
   a.projection = hp::projection_method(a.disc, a.moments, model, pose_options);
   if (a.disc_cut) {
@@ -78,7 +86,7 @@ Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry
       radiometry.level(gp::PixelClass::background) - radiometry.level(gp::PixelClass::bar);
   bo.radius_m = pose_options.radius_m;
   bo.min_bar_run_weight = a.min_bar_weight;
-  a.code = hp::read_barcode(a.runs, model, grey.cols, bo);
+  a.code = hp::read_barcode(bar_runs, model, grey.cols, bo);
   a.conic_bars = hp::refine_with_bars(a.conic, a.code.edges, model, pose_options);
   return a;
 }
@@ -123,8 +131,7 @@ cv::Mat overlay(const cv::Mat& grey, const Analysis& a, const host::CameraModel&
                 const std::string& text) {
   cv::Mat bgr;
   cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
-  for (const auto& r : a.runs) {
-    if (r.sum_w < a.min_bar_weight) continue;  // the disc's runs
+  for (const auto& r : hp::split_disc_runs(a.runs, a.moments[hp::kDisc]).second) {
     cv::line(bgr, {r.x_start, r.row}, {r.x_end, r.row}, cv::Scalar(0, 160, 0), 1);
   }
   if (a.conic.status != hp::PatternStatus::no_pattern &&
@@ -198,7 +205,8 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
         const cv::Mat grey = gp::render_pattern(camera, geometry, radiometry, r.identity, v, p);
         const gp::PatternTruth t = gp::pattern_truth(camera, geometry, r.identity, v);
         hp::PoseOptions po = pose_options_for(geometry);
-        po.up_cam = v.rotation.col(1);  // the mount's known tilt (docs/pattern.md)
+        po.up_cam = v.rotation.col(1);   // the mount's known tilt (docs/pattern.md)
+        po.psf_sigma_px = o.blur_sigma;  // the camera's blur (calibrated, not per frame)
         const Analysis a = analyse(device, grey, radiometry, model, po);
         const hp::PatternPose* poses[4] = {&a.projection, &a.moment, &a.conic, &a.conic_bars};
         for (int m = 0; m < 4; ++m) {

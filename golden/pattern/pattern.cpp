@@ -265,13 +265,34 @@ std::array<uint8_t, 256> class_lut(const Radiometry& r) {
 
 std::array<stream::LutEntry, 256> bar_mask_lut(const Radiometry& r) {
   const std::array<uint8_t, 256> cls = class_lut(r);
+  // Darker than the wall: remap = 255 - grey (w = the bar's ink). Lighter
+  // than the wall: remap = background + the disc's coverage of the pixel
+  // (grey - wall) / (disc - wall) in units of 1 / disc_coverage_weight, so a
+  // disc run's weight is its sub-pixel chord (docs/pattern.md). Below wall +
+  // kCoverageDeadZone (3 sigma of the wall's noise at sigma 3) 0, so a bar
+  // run's margins on the plate stay weightless; from disc - kCoverageDeadZone
+  // full, so the disc's noise does not bias the chord.
+  const double wall = r.level(PixelClass::background), disc = r.level(PixelClass::pattern);
+  const uint8_t bg = bar_run_background(r);
+  const double k = static_cast<double>(255 - bg);
   std::array<stream::LutEntry, 256> lut{};
   for (unsigned g = 0; g < 256; ++g) {
     const bool mask = cls[g] == static_cast<uint8_t>(PixelClass::bar) ||
                       cls[g] == static_cast<uint8_t>(PixelClass::pattern);
-    lut[g] = stream::lut_entry(static_cast<uint8_t>(255 - g), mask, cls[g]);
+    const double grey = static_cast<double>(g);
+    auto remap = static_cast<uint8_t>(255 - g);
+    if (grey >= wall + kCoverageDeadZone) {
+      const double c =
+          grey >= disc - kCoverageDeadZone ? 1.0 : std::min(1.0, (grey - wall) / (disc - wall));
+      remap = static_cast<uint8_t>(bg + static_cast<int>(std::lround(k * c)));
+    }
+    lut[g] = stream::lut_entry(remap, mask, cls[g]);
   }
   return lut;
+}
+
+uint32_t disc_coverage_weight(const Radiometry& r) {
+  return static_cast<uint32_t>(255 - bar_run_background(r));
 }
 
 uint8_t bar_run_background(const Radiometry& r) {
@@ -297,12 +318,12 @@ stream::PipelineConfig device_config(int width, int height, const Radiometry& r)
   cfg.height = static_cast<uint16_t>(height);
   cfg.lut = bar_mask_lut(r);
   cfg.background_level = bar_run_background(r);
-  // A disc run must weigh nothing and a bar run something: the reader tells
-  // them apart by the weight.
-  const ClassThresholds t = class_thresholds(r);
-  if (255 - t.pattern_from > cfg.background_level ||
-      255 - (t.bar_below - 1) <= cfg.background_level) {
-    throw std::invalid_argument("device_config: disc and bar run weights overlap");
+  // The disc's full pixels weigh disc_coverage_weight, more than a bar
+  // pixel's ink could make it look like the wall: the host tells the runs
+  // apart by position (inside the disc's moment ellipse), not by weight.
+  if (disc_coverage_weight(r) < 20) {
+    throw std::invalid_argument(
+        "device_config: wall level leaves no room for the disc's coverage weight");
   }
   cfg.min_run_length = 1;
   cfg.max_runs_per_row = 32;

@@ -102,32 +102,37 @@ struct ClassThresholds {
 };
 ClassThresholds class_thresholds(const Radiometry& r);
 std::array<uint8_t, 256> class_lut(const Radiometry& r);
-// The device's LUT for a pattern frame: remap = 255 - grey (bars are dark, so
-// w = remap - background is large on a bar), mask = (class == bar or disc),
-// CLASS = class_lut.
+// The device's LUT for a pattern frame: remap = 255 - grey up to the wall
+// level + kCoverageDeadZone (bars are dark, so w = remap - background is a
+// bar's ink), above it background + disc_coverage_weight x the disc's
+// coverage (grey - wall) / (disc - wall), full from disc - kCoverageDeadZone
+// (a disc run's weight is its sub-pixel chord); mask = (class == bar or
+// disc), CLASS = class_lut.
 std::array<stream::LutEntry, 256> bar_mask_lut(const Radiometry& r);
 // Background level for the run weights with bar_mask_lut: 255 - wall level.
 uint8_t bar_run_background(const Radiometry& r);
 // cv::LUT of a grey frame through class_lut: CV_8UC1 of class codes.
 cv::Mat classify(const cv::Mat& grey, const std::array<uint8_t, 256>& lut);
 
-// The device configuration for a pattern frame (docs/pattern.md): LUT with
-// remap = 255 - grey, CLASS = class_lut (class_moments of disc, shadow and
-// bars) and mask = bar or disc class; run background bar_run_background, so a
-// bar run's weight is its ink and a disc run's only its margins' (the disc's
-// remap is below the background: std::invalid_argument if the radiometry
-// breaks that); class window = the whole frame; min run length 1, 32 runs
-// per row.
+// The device configuration for a pattern frame (docs/pattern.md): LUT
+// bar_mask_lut, CLASS = class_lut (class_moments of disc, shadow and bars)
+// and mask = bar or disc class; run background bar_run_background, so a bar
+// run's weight is its ink and a disc run's its chord x disc_coverage_weight
+// (the host tells them apart by position, host::pattern::split_disc_runs);
+// class window = the whole frame; min run length 1, 32 runs per row.
 stream::PipelineConfig device_config(int width, int height, const Radiometry& r);
 // The least weight of a bar run with device_config: one bar pixel's ink
-// (grey bar_below - 1). A disc run weighs only its two margin pixels, each
-// below this (not bar class), and in practice far below (a margin pixel on
-// the rim would need to be 5 sigma dark at sigma 3 to weigh half of it):
-// runs lighter than this are the disc's.
+// (grey bar_below - 1); the bar reader skips lighter runs.
 uint32_t bar_run_min_weight(const Radiometry& r);
+// Grey levels within this of the wall weigh nothing on the bright side, and
+// within this of the disc count as full disc (bar_mask_lut).
+inline constexpr double kCoverageDeadZone = 9.0;
+// A full disc pixel's run weight with device_config (255 - background): a
+// disc run's sum_w / this is its chord in pixels, sum_xw / sum_w its centroid.
+uint32_t disc_coverage_weight(const Radiometry& r);
 
 // The run records of a grey frame with device_config (stream::Pipeline's
-// frame-at-a-time path): bar runs and zero-weight disc runs.
+// frame-at-a-time path): bar runs and disc runs.
 std::vector<stream::RunRecord> bar_runs(const cv::Mat& grey, const Radiometry& r);
 
 // Camera pose in the pattern frame: X_cam = R (X_pat - C), OpenCV camera axes.

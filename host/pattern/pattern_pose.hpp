@@ -13,6 +13,7 @@
 #include <optional>
 #include <span>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "host/camera_model.hpp"
@@ -47,12 +48,16 @@ struct Extents {
   bool empty() const { return u_max < u_min; }
 };
 Extents class_extents(const uint8_t* classes, int width, int height, std::size_t stride, int cls);
-// The same for the disc from the device's run records: with the pattern's
-// device configuration (golden::pattern::device_config) the disc is in the
-// run mask with no ink (only its margins weigh), the bars with their ink:
-// runs lighter than min_bar_weight (golden::pattern::bar_run_min_weight) are
-// the disc's.
-Extents disc_extents_from_runs(std::span<const stream::RunRecord> runs, uint32_t min_bar_weight);
+// The same for the disc from its run records (split_disc_runs).
+Extents disc_extents_from_runs(std::span<const stream::RunRecord> disc_runs);
+
+// With the coverage LUT (golden::pattern::bar_mask_lut) the disc's runs weigh
+// their chords: they are told from the bars' by position. A run is the
+// disc's when its midpoint lies inside the disc class's moment ellipse
+// (pixel coordinates, 1.1 x its size); the bars start 4 cm beyond the disc.
+// Splits runs into (disc runs, other runs); no disc class -> all are other.
+std::pair<std::vector<stream::RunRecord>, std::vector<stream::RunRecord>> split_disc_runs(
+    std::span<const stream::RunRecord> runs, const ClassMoments& disc);
 
 enum class PatternStatus {
   ok,
@@ -106,6 +111,9 @@ struct PoseOptions {
   Eigen::Vector3d up_cam{0.0, -1.0, 0.0};
   // Known swing (rad) subtracted from the moment method's beta (eq. 70).
   double swing_rad = 0.0;
+  // The lens's blur (Gaussian sigma, px; a calibrated camera property) for
+  // the sub-pixel disc outline's chord correction (ellipse_from_disc_runs).
+  double psf_sigma_px = 0.5;
 };
 
 // The seed's moment method: D = R / b (eq. 6, f = 1 in normalised units),
@@ -120,6 +128,23 @@ PatternPose projection_method(const Extents& disc, const FrameMoments& m, const 
 // of that cone with radius R, the one whose predicted side-wall image matches
 // the shadow's side. No centring and no R sin(theta) << D assumption.
 PatternPose conic_method(const FrameMoments& m, const CameraModel& camera, const PoseOptions& o);
+// The disc's ellipse (normalised) from the sub-pixel outline of its runs
+// (docs/pattern.md §2, sub-pixel outline): per row the chord sum_w / k (k =
+// golden::pattern::disc_coverage_weight), the left edge solving
+// sum_xw / k = integral of round(x) over the chord, less the strip-average
+// bias of the chord (pixel rows and the lens's Gaussian blur psf_sigma_px:
+// chord'' (1/24 + sigma^2/2)); rows within 1 px of the ellipse's top and bottom and
+// runs at the image border are left out. The edge points go through the
+// camera model and a conic is fitted (algebraic, Sampson-reweighted). Empty
+// when fewer than 24 rows remain (a flat disc: the moments are better) or
+// the fit is not an ellipse.
+std::optional<Ellipse> ellipse_from_disc_runs(std::span<const stream::RunRecord> disc_runs,
+                                              const ClassMoments& disc, uint32_t k, int width,
+                                              double psf_sigma_px, const CameraModel& camera);
+// conic_method with a given disc ellipse (e.g. ellipse_from_disc_runs); the
+// shadow from the moments as conic_method.
+PatternPose conic_method(const Ellipse& e, const FrameMoments& m, const CameraModel& camera,
+                         const PoseOptions& o);
 
 // The two poses (centre, unit normal toward the camera) of a circle of radius
 // r whose image is the conic q (3x3 symmetric, [x y 1] q [x y 1]^T = 0 in

@@ -75,7 +75,18 @@ TEST(PatternLut, NominalLevelsAndFalloffRangeMapToTheirClasses) {
   const auto mask = bar_mask_lut(r);
   for (unsigned g = 0; g < 256; ++g) {
     EXPECT_EQ((mask[g] & stream::kLutMaskBit) != 0, lut[g] == 3 || lut[g] == 1);
-    EXPECT_EQ(mask[g] & stream::kLutRemapMask, 255 - g);
+    // Remap: 255 - grey up to wall + dead zone (bar ink), then background +
+    // the disc's coverage, rising to the full weight at the disc level.
+    const unsigned remap = mask[g] & stream::kLutRemapMask;
+    const double grey = static_cast<double>(g), wall = r.level(PixelClass::background);
+    if (grey < wall + kCoverageDeadZone) {
+      EXPECT_EQ(remap, 255 - g) << g;
+    } else if (grey >= r.level(PixelClass::pattern) - kCoverageDeadZone) {
+      EXPECT_EQ(remap, 255u) << g;
+    } else {
+      const double c = (grey - wall) / (r.level(PixelClass::pattern) - wall);
+      EXPECT_NEAR(remap, bar_run_background(r) + disc_coverage_weight(r) * c, 0.5) << g;
+    }
     EXPECT_EQ(stream::lut_class(mask[g]), lut[g]);
   }
   Radiometry bad;
