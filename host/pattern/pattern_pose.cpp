@@ -300,14 +300,22 @@ std::optional<Ellipse> ellipse_from_moments(const ClassMoments& m, const CameraM
   return e;
 }
 
+namespace {
+// The disc's ellipse from its moments, or nullopt with p.status telling why:
+// too few disc pixels (status left as is: no pattern) or a degenerate region.
+std::optional<Ellipse> disc_ellipse(const FrameMoments& m, const CameraModel& camera,
+                                    const PoseOptions& o, PatternPose& p) {
+  if (m[kDisc].m00 < o.min_disc_pixels) return std::nullopt;
+  auto e = ellipse_from_moments(m[kDisc], camera);
+  if (!e) p.status = PatternStatus::degenerate;
+  return e;
+}
+}  // namespace
+
 PatternPose moment_method(const FrameMoments& m, const CameraModel& camera, const PoseOptions& o) {
   PatternPose p;
-  if (m[kDisc].m00 < o.min_disc_pixels) return p;
-  const auto e = ellipse_from_moments(m[kDisc], camera);
-  if (!e) {
-    p.status = PatternStatus::degenerate;
-    return p;
-  }
+  const auto e = disc_ellipse(m, camera, o, p);
+  if (!e) return p;
   p.ellipse = *e;
   p.d_m = o.radius_m / e->b;                                   // eq. 6
   p.theta_rad = std::acos(std::clamp(e->a / e->b, 0.0, 1.0));  // eq. 10
@@ -323,12 +331,9 @@ PatternPose moment_method(const FrameMoments& m, const CameraModel& camera, cons
 PatternPose projection_method(const Extents& disc, const FrameMoments& m, const CameraModel& camera,
                               const PoseOptions& o) {
   PatternPose p;
-  if (disc.empty() || m[kDisc].m00 < o.min_disc_pixels) return p;
-  const auto e = ellipse_from_moments(m[kDisc], camera);
-  if (!e) {
-    p.status = PatternStatus::degenerate;
-    return p;
-  }
+  if (disc.empty()) return p;
+  const auto e = disc_ellipse(m, camera, o, p);
+  if (!e) return p;
   p.ellipse = *e;
   // Pixel counts of the projections (eq. 39, 49): N = max - min + 1.
   const double nb = disc.v_max - disc.v_min + 1, na = disc.u_max - disc.u_min + 1;
@@ -414,12 +419,8 @@ std::vector<CirclePose> circle_poses_from_conic(const Eigen::Matrix3d& q_in, dou
 
 PatternPose conic_method(const FrameMoments& m, const CameraModel& camera, const PoseOptions& o) {
   PatternPose p;
-  if (m[kDisc].m00 < o.min_disc_pixels) return p;
-  const auto e = ellipse_from_moments(m[kDisc], camera);
-  if (!e) {
-    p.status = PatternStatus::degenerate;
-    return p;
-  }
+  const auto e = disc_ellipse(m, camera, o, p);
+  if (!e) return p;
   return conic_method(*e, m, camera, o);
 }
 
