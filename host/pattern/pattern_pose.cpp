@@ -246,6 +246,30 @@ bool distorted_region_moments(const CameraModel& camera, const Eigen::Vector2d& 
 
 }  // namespace
 
+namespace {
+// The ellipse of a uniform region with centre c and covariance cov (both in
+// normalised coordinates). Eq. 17-18: b, a = 2 sqrt(eigenvalues) (the seed's
+// form divided by mu00 / 2); psi is the minor axis (eigenvector of the
+// smaller eigenvalue) from image up toward +x, in [0, pi).
+std::optional<Ellipse> ellipse_from_covariance(const Eigen::Vector2d& c,
+                                               const Eigen::Matrix2d& cov) {
+  const double tr = cov(0, 0) + cov(1, 1);
+  const double disc = std::hypot(cov(0, 0) - cov(1, 1), 2.0 * cov(0, 1));
+  const double l1 = 0.5 * (tr + disc), l2 = 0.5 * (tr - disc);
+  if (!(l2 > 0.0)) return std::nullopt;
+  Ellipse e;
+  e.cx = c.x();
+  e.cy = c.y();
+  e.b = 2.0 * std::sqrt(l1);
+  e.a = 2.0 * std::sqrt(l2);
+  e.cov = cov;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  const Eigen::Vector2d minor = es.eigenvectors().col(0);
+  e.psi = std::fmod(std::atan2(minor.x(), -minor.y()) + 2.0 * kPi, kPi);
+  return e;
+}
+}  // namespace
+
 std::optional<Ellipse> ellipse_from_moments(const ClassMoments& m, const CameraModel& camera) {
   if (m.m00 < 5) return std::nullopt;
   const double n = static_cast<double>(m.m00);
@@ -280,24 +304,7 @@ std::optional<Ellipse> ellipse_from_moments(const ClassMoments& m, const CameraM
       if ((c_meas - pc).norm() < 1e-12 && (cov_meas - pcn).norm() < 1e-14) break;
     }
   }
-  // Eq. 17-18: b, a = 2 sqrt(eigenvalues) (the seed's form divided by mu00 / 2).
-  const double tr = cov(0, 0) + cov(1, 1);
-  const double disc = std::hypot(cov(0, 0) - cov(1, 1), 2.0 * cov(0, 1));
-  const double l1 = 0.5 * (tr + disc), l2 = 0.5 * (tr - disc);
-  if (!(l2 > 0.0)) return std::nullopt;
-  Ellipse e;
-  e.cx = c.x();
-  e.cy = c.y();
-  e.b = 2.0 * std::sqrt(l1);
-  e.a = 2.0 * std::sqrt(l2);
-  e.cov = cov;
-  // Minor axis direction: eigenvector of l2.
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-  const Eigen::Vector2d minor = es.eigenvectors().col(0);
-  double psi = std::atan2(minor.x(), -minor.y());  // from image up toward +x
-  psi = std::fmod(psi + 2.0 * kPi, kPi);
-  e.psi = psi;
-  return e;
+  return ellipse_from_covariance(c, cov);
 }
 
 namespace {
@@ -604,19 +611,7 @@ std::optional<Ellipse> ellipse_from_disc_runs(std::span<const stream::RunRecord>
   // (q - cq)^T (mq / rhs) (q - cq) = 1, q = (x - mean) * scale.
   const Eigen::Matrix2d m_norm = mq / rhs * scale * scale;
   const Eigen::Vector2d c = mean + cq / scale;
-  const Eigen::Matrix2d cov = 0.25 * m_norm.inverse();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-  const double l2 = es.eigenvalues()(0), l1 = es.eigenvalues()(1);
-  if (!(l2 > 0.0)) return std::nullopt;
-  Ellipse e;
-  e.cx = c.x();
-  e.cy = c.y();
-  e.b = 2.0 * std::sqrt(l1);
-  e.a = 2.0 * std::sqrt(l2);
-  e.cov = cov;
-  const Eigen::Vector2d minor = es.eigenvectors().col(0);
-  e.psi = std::fmod(std::atan2(minor.x(), -minor.y()) + 2.0 * kPi, kPi);
-  return e;
+  return ellipse_from_covariance(c, 0.25 * m_norm.inverse());
 }
 
 // ------------------------------------------------------------------ bar code
