@@ -26,6 +26,7 @@
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
 #include "host/device.hpp"
+#include "host/pattern/disc_coverage.hpp"
 #include "host/pattern/pattern_pose.hpp"
 #include "host/pattern/pattern_search.hpp"
 
@@ -50,6 +51,19 @@ struct Analysis {
   hp::BarcodeRead code;
 };
 
+// How the device's coverage LUT (golden::pattern::bar_mask_lut) weighs a disc
+// pixel, with the camera's blur and noise.
+hp::DiscCoverageModel disc_coverage_model(const gp::Radiometry& r, const hp::PoseOptions& o) {
+  hp::DiscCoverageModel m;
+  m.k = gp::disc_coverage_weight(r);
+  m.contrast = r.level(gp::PixelClass::pattern) - r.level(gp::PixelClass::background);
+  m.dead_lo = gp::kCoverageDeadZone / m.contrast;
+  m.dead_hi = 1.0 - m.dead_lo;
+  m.noise_grey = o.noise_grey;
+  (o.blur_on_pixels ? m.kernel_sigma_px : m.psf_sigma_px) = o.psf_sigma_px;
+  return m;
+}
+
 // The frame streams through the device (class LUT, run mask of bars and
 // disc, whole-frame class window); the host works on its class moments and
 // run records.
@@ -73,6 +87,16 @@ Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry
                                                     gp::disc_coverage_weight(radiometry), grey.cols,
                                                     pose_options.psf_sigma_px, model);
     if (outline) a.conic = hp::conic_method(*outline, a.moments, model, pose_options);
+    // Then every disc run's coverage sums against the exact prediction for
+    // a candidate ellipse (docs/pattern.md, coverage fit), from the outline
+    // or, when there is none, the moments' ellipse.
+    const auto start = outline ? outline : hp::ellipse_from_moments(a.moments[hp::kDisc], model);
+    if (start) {
+      const auto fit =
+          hp::fit_disc_coverage(disc_runs, *start, disc_coverage_model(radiometry, pose_options),
+                                model, grey.cols, grey.rows);
+      if (fit) a.conic = hp::conic_method(fit->ellipse, a.moments, model, pose_options);
+    }
   }
   a.moment = hp::moment_method(a.moments, model, pose_options);
   a.projection = hp::projection_method(a.disc, a.moments, model, pose_options);
@@ -207,6 +231,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
         hp::PoseOptions po = pose_options_for(geometry);
         po.up_cam = v.rotation.col(1);   // the mount's known tilt (docs/pattern.md)
         po.psf_sigma_px = o.blur_sigma;  // the camera's blur (calibrated, not per frame)
+        po.noise_grey = o.noise_sigma;   // and its noise
         const Analysis a = analyse(device, grey, radiometry, model, po);
         const hp::PatternPose* poses[4] = {&a.projection, &a.moment, &a.conic, &a.conic_bars};
         for (int m = 0; m < 4; ++m) {
@@ -547,7 +572,8 @@ int run_pattern(const PatternOptions& o) {
       grey = cv::Mat(camera.image_height, camera.image_width, CV_8UC1,
                      cv::Scalar(radiometry.level(gp::PixelClass::background)));
     }
-    const hp::PoseOptions po = pose_options_for(db.geometry);
+    hp::PoseOptions po = pose_options_for(db.geometry);
+    po.noise_grey = o.noise_sigma;
     const Analysis a = analyse(device, grey, radiometry, model, po);
     FixRow r = make_fix(a, db, po.up_cam, pan);
     r.frame = frame_name_png(static_cast<int>(rows.size()));

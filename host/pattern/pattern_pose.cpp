@@ -246,11 +246,9 @@ bool distorted_region_moments(const CameraModel& camera, const Eigen::Vector2d& 
 
 }  // namespace
 
-namespace {
-// The ellipse of a uniform region with centre c and covariance cov (both in
-// normalised coordinates). Eq. 17-18: b, a = 2 sqrt(eigenvalues) (the seed's
-// form divided by mu00 / 2); psi is the minor axis (eigenvector of the
-// smaller eigenvalue) from image up toward +x, in [0, pi).
+// Eq. 17-18: b, a = 2 sqrt(eigenvalues) (the seed's form divided by mu00 / 2);
+// psi is the minor axis (eigenvector of the smaller eigenvalue) from image up
+// toward +x, in [0, pi).
 std::optional<Ellipse> ellipse_from_covariance(const Eigen::Vector2d& c,
                                                const Eigen::Matrix2d& cov) {
   const double tr = cov(0, 0) + cov(1, 1);
@@ -268,7 +266,6 @@ std::optional<Ellipse> ellipse_from_covariance(const Eigen::Vector2d& c,
   e.psi = std::fmod(std::atan2(minor.x(), -minor.y()) + 2.0 * kPi, kPi);
   return e;
 }
-}  // namespace
 
 std::optional<Ellipse> ellipse_from_moments(const ClassMoments& m, const CameraModel& camera) {
   if (m.m00 < 5) return std::nullopt;
@@ -889,6 +886,28 @@ BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraMo
   return out;
 }
 
+namespace {
+// The image of the pattern's disc for a pose (centre t, axes a of the pattern
+// in the camera) as fit_disc_coverage's parameters (centre, S = 4 cov):
+// the unit circle's conic diag(1, 1, -1) through H = [R a1, R a2, t].
+std::optional<Eigen::Matrix<double, 5, 1>> disc_image_params(const Eigen::Matrix3d& a,
+                                                             const Eigen::Vector3d& t, double r) {
+  Eigen::Matrix3d h;
+  h.col(0) = r * a.col(0);
+  h.col(1) = r * a.col(1);
+  h.col(2) = t;
+  const Eigen::Matrix3d hi = h.inverse();
+  const Eigen::Matrix3d q = hi.transpose() * Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal() * hi;
+  const Eigen::Matrix2d m = q.topLeftCorner<2, 2>();
+  if (!(std::abs(m.determinant()) > 0.0) || !q.allFinite()) return std::nullopt;
+  const Eigen::Vector2d x0 = -m.inverse() * q.topRightCorner<2, 1>();
+  const Eigen::Matrix2d s = (x0.dot(m * x0) - q(2, 2)) * m.inverse();
+  Eigen::Matrix<double, 5, 1> e;
+  e << x0.x(), x0.y(), s(0, 0), s(0, 1), s(1, 1);
+  return e;
+}
+}  // namespace
+
 PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> edges,
                              const CameraModel& camera, const PoseOptions& o) {
   if ((conic.status != PatternStatus::ok && conic.status != PatternStatus::ambiguous) ||
@@ -898,36 +917,50 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
   const auto axes0 = pattern_axes_cam(conic.normal_cam, o.up_cam);
   if (!axes0) return conic;
   const double f = std::sqrt(camera.fx() * camera.fy());
-  const double sigma_edge = 0.15 / f;  // normalised units
-  // The conic's centre, 0.3 % of D in each coordinate: pins the slide along
-  // y, and holds the distance where the bars are weak (far, small theta: they
-  // fix the horizontal scale f cos(theta) / D, so a theta error from slightly
-  // biased centroids moved D with it; 0.44-0.47 % at 4-5 m with the slide
-  // alone constrained).
+  // Per row, a bar's ink centroid scatters by about 0.15 px; every row of one
+  // bar shares the same pixel phase, so the bar's mean carries a common error
+  // of about 0.03 px that its rows do not average away (docs/pattern.md).
+  const double sigma_row = 0.15 / f, sigma_bar = 0.03 / f;  // normalised units
+  // The disc: with the coverage fit's covariance the prior is the disc's own
+  // image (5 constraints on the pose, weighted by what the fit measured);
+  // without it, the conic's centre (0.3 % of D in each coordinate) and normal
+  // (1 deg).
   const double sigma_slide = 0.003 * conic.centre_cam.norm();
   const double sigma_normal = 1.0 * kPi / 180.0;
   const Eigen::Vector3d c0 = conic.centre_cam, n0 = conic.normal_cam;
+  const Eigen::Matrix<double, 5, 5>& pc = conic.ellipse.param_cov;
+  Eigen::Matrix<double, 5, 1> e_meas;
+  e_meas << conic.ellipse.cx, conic.ellipse.cy, 4.0 * conic.ellipse.cov(0, 0),
+      4.0 * conic.ellipse.cov(0, 1), 4.0 * conic.ellipse.cov(1, 1);
+  const Eigen::LLT<Eigen::Matrix<double, 5, 5>> disc_llt(pc);
+  const bool disc_prior = !pc.isZero() && disc_llt.info() == Eigen::Success;
   Eigen::Matrix3d a = *axes0;
   Eigen::Vector3d t = c0;
   double bias = 0.0;  // metres: a common shift along x (pattern printing offset)
-  const std::size_t n_res = edges.size() + 7;
-  std::vector<double> weight(edges.size(), 1.0);
   // Bars narrower than 2 px are left out: their gaps are about as narrow, so
   // the run's one-pixel margin takes in the neighbours' ink and biases the
   // centroid (measured: up to 0.6 % in D at 3 m, 67.5 deg).
-  std::vector<double> inv_sigma(edges.size());
+  std::vector<int> bar_of(edges.size(), -1);
+  std::map<double, int> bar_index;
   std::size_t used = 0;
   for (std::size_t i = 0; i < edges.size(); ++i) {
-    const bool wide = edges[i].width * f >= 2.0;
-    inv_sigma[i] = wide ? 1.0 / sigma_edge : 0.0;
-    used += wide;
+    if (edges[i].width * f < 2.0) continue;
+    bar_of[i] =
+        bar_index.try_emplace(edges[i].x0_m, static_cast<int>(bar_index.size())).first->second;
+    ++used;
   }
   if (used < 48) return conic;
+  const std::size_t n_bars = bar_index.size();
+  const std::size_t n_prior = disc_prior ? 5 : 6;
+  const std::size_t n_res = edges.size() + n_bars + n_prior + 1;
+  std::vector<double> weight(edges.size(), 1.0);
   auto residuals = [&](const Eigen::Matrix3d& aa, const Eigen::Vector3d& tt, double bb,
                        Eigen::VectorXd& r) {
-    r.resize(static_cast<Eigen::Index>(n_res));
+    r.setZero(static_cast<Eigen::Index>(n_res));
     const Eigen::Vector3d a1 = aa.col(0), a2 = aa.col(1), a3 = aa.col(2);
+    std::vector<double> dist(edges.size(), 0.0), sum(n_bars, 0.0), wsum(n_bars, 0.0);
     for (std::size_t i = 0; i < edges.size(); ++i) {
+      if (bar_of[i] < 0) continue;
       const BarEdge& e = edges[i];
       // The ink centroid along the row is the midpoint of the bar's two
       // projected edges (not the projection of its centre line): the mean
@@ -938,12 +971,34 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
         const double norm = std::hypot(l.x(), l.y());
         d += norm > 0.0 ? 0.5 * (l.x() * e.x + l.y() * e.y + l.z()) / norm : 0.0;
       }
-      r(static_cast<Eigen::Index>(i)) = weight[i] * d * inv_sigma[i];
+      dist[i] = d;
+      const auto b = static_cast<std::size_t>(bar_of[i]);
+      sum[b] += weight[i] * d;
+      wsum[b] += weight[i];
     }
-    const auto k = static_cast<Eigen::Index>(edges.size());
-    r.segment<3>(k) = (tt - c0) / sigma_slide;
-    r.segment<3>(k + 3) = (a3 - n0) / sigma_normal;
-    r(k + 6) = bb / 1e-4;  // a shift along x is a translation along a1: pinned
+    // Each row about its bar's mean; each bar's mean against its own sigma.
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      if (bar_of[i] < 0) continue;
+      const auto b = static_cast<std::size_t>(bar_of[i]);
+      r(static_cast<Eigen::Index>(i)) = weight[i] * (dist[i] - sum[b] / wsum[b]) / sigma_row;
+    }
+    auto k = static_cast<Eigen::Index>(edges.size());
+    for (std::size_t b = 0; b < n_bars; ++b, ++k) {
+      if (wsum[b] > 0.0) {
+        r(k) =
+            sum[b] / wsum[b] / std::sqrt(sigma_bar * sigma_bar + sigma_row * sigma_row / wsum[b]);
+      }
+    }
+    if (disc_prior) {
+      const auto e = disc_image_params(aa, tt, o.radius_m);
+      r.segment<5>(k) = e ? Eigen::Matrix<double, 5, 1>(disc_llt.matrixL().solve(*e - e_meas))
+                          : Eigen::Matrix<double, 5, 1>::Constant(1e6);
+    } else {
+      r.segment<3>(k) = (tt - c0) / sigma_slide;
+      r.segment<3>(k + 3) = (a3 - n0) / sigma_normal;
+    }
+    r(static_cast<Eigen::Index>(n_res) - 1) =
+        bb / 1e-4;  // a shift along x is a translation along a1: pinned
   };
   auto apply = [](const Eigen::Matrix3d& aa, const Eigen::Vector3d& tt, double bb,
                   const Eigen::Matrix<double, 7, 1>& d, Eigen::Matrix3d& a2, Eigen::Vector3d& t2,
@@ -957,8 +1012,9 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
   Eigen::VectorXd r0, r1;
   for (int iteration = 0; iteration < 12; ++iteration) {
     residuals(a, t, bias, r0);
-    // Robust: down-weight edges beyond 3 sigma (once per iteration).
+    // Robust: down-weight rows beyond 3 sigma of their bar's mean (once per iteration).
     for (std::size_t i = 0; i < edges.size(); ++i) {
+      if (bar_of[i] < 0) continue;
       const double ri = std::abs(r0(static_cast<Eigen::Index>(i))) / weight[i];
       weight[i] = ri > 3.0 ? 3.0 / ri : 1.0;
     }

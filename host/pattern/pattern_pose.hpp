@@ -76,7 +76,14 @@ std::string_view to_string(PatternStatus s);
 struct Ellipse {
   double cx = 0, cy = 0, a = 0, b = 0, psi = 0;
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();  // second central moments / m00
+  // Uncertainty of (cx, cy, S11, S12, S22), S = 4 cov, when the estimate
+  // comes with one (fit_disc_coverage); zero = not known.
+  Eigen::Matrix<double, 5, 5> param_cov = Eigen::Matrix<double, 5, 5>::Zero();
 };
+// The ellipse of a uniform region with centre c and covariance cov (both in
+// normalised coordinates); empty unless cov is positive definite.
+std::optional<Ellipse> ellipse_from_covariance(const Eigen::Vector2d& c,
+                                               const Eigen::Matrix2d& cov);
 // Eq. 29-32 (with Sheppard's 1/12 px^2) then eq. 17-19 on the moments mapped
 // to normalised coordinates: the centroid through the camera model, the
 // covariance through the local Jacobian of the undistortion, refined with a
@@ -114,6 +121,12 @@ struct PoseOptions {
   // The lens's blur (Gaussian sigma, px; a calibrated camera property) for
   // the sub-pixel disc outline's chord correction (ellipse_from_disc_runs).
   double psf_sigma_px = 0.5;
+  // For the coverage fit (fit_disc_coverage): whether that blur acts on pixel
+  // values (a sampled Gaussian kernel, the form golden::finish_render renders)
+  // rather than as a continuous PSF before the pixels integrate, and the
+  // camera's pixel noise (sigma, grey levels). Both calibrated properties.
+  bool blur_on_pixels = true;
+  double noise_grey = 3.0;
 };
 
 // The seed's moment method: D = R / b (eq. 6, f = 1 in normalised units),

@@ -1,0 +1,289 @@
+#include "host/pattern/disc_coverage.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace ceilnav::host::pattern {
+namespace {
+
+double normal_cdf(double t) {
+  return 0.5 * std::erfc(-t / std::numbers::sqrt2);
+}
+double normal_pdf(double t) {
+  return std::exp(-0.5 * t * t) / std::sqrt(2.0 * std::numbers::pi);
+}
+// Antiderivatives of the normal cdf: Psi' = Phi, Psi2' = Psi.
+double psi1(double t) {
+  return t * normal_cdf(t) + normal_pdf(t);
+}
+double psi2(double t) {
+  return 0.5 * ((t * t + 1.0) * normal_cdf(t) + t * normal_pdf(t));
+}
+
+// One run as the fit sees it: its pixels (run + margins), the measured
+// coverage sum and first moment about the middle, and per pixel the
+// normalised coordinates; the pixel -> normalised Jacobian at each end.
+struct RunData {
+  int x0 = 0, x1 = 0, y = 0;
+  double mid = 0.0, area = 0.0, moment = 0.0, moment_scale = 1.0;
+  std::vector<double> nx, ny;
+  Eigen::Matrix2d jl, jr;
+};
+
+Eigen::Matrix2d pixel_jacobian(const CameraModel& camera, double u, double v) {
+  const double h = 0.5;
+  const Eigen::Vector2d du = camera.normalise(u + h, v) - camera.normalise(u - h, v);
+  const Eigen::Vector2d dv = camera.normalise(u, v + h) - camera.normalise(u, v - h);
+  Eigen::Matrix2d j;
+  j.col(0) = du / (2.0 * h);
+  j.col(1) = dv / (2.0 * h);
+  return j;
+}
+
+// Parameters: centre (2) and the shape S = 4 Sigma (3): (x - c)^T S^-1 (x - c) = 1.
+using Params = Eigen::Matrix<double, 5, 1>;
+
+Params to_params(const Ellipse& e) {
+  Params p;
+  p << e.cx, e.cy, 4.0 * e.cov(0, 0), 4.0 * e.cov(0, 1), 4.0 * e.cov(1, 1);
+  return p;
+}
+
+// Pixel-unit signed distance (> 0 outside) of normalised point q (relative
+// to the centre) from the ellipse x^T mi x = 1, through the pixel -> normalised
+// Jacobian j: the radial implicit function rho - 1 (exact for a circle) over
+// its pixel gradient; the gradient's direction in n.
+double edge_distance(const Eigen::Vector2d& q, const Eigen::Matrix2d& mi, const Eigen::Matrix2d& j,
+                     Eigen::Vector2d& n) {
+  const Eigen::Vector2d mq = mi * q;
+  const double rho = std::sqrt(std::max(q.dot(mq), 0.0));
+  if (!(rho > 1e-12)) {
+    n = Eigen::Vector2d(1.0, 0.0);
+    return -1e9;
+  }
+  const Eigen::Vector2d g = j.transpose() * (mq / rho);
+  const double gn = g.norm();
+  n = g / gn;
+  return (rho - 1.0) / gn;
+}
+
+// Residuals of every run for parameters p; false when S is not positive definite.
+bool residuals(const Params& p, const std::vector<RunData>& runs, const DiscCoverageModel& m,
+               const std::vector<double>& kernel, double w_in, double w_out, Eigen::VectorXd& r) {
+  Eigen::Matrix2d s;
+  s << p(2), p(3), p(3), p(4);
+  if (!(s(0, 0) > 0.0) || !(s.determinant() > 0.0)) return false;
+  const Eigen::Matrix2d mi = s.inverse();
+  const int kh = static_cast<int>(kernel.size()) - 1;
+  const double psf = m.kernel_sigma_px > 0.0 ? 0.0 : m.psf_sigma_px;
+  // Beyond this a pixel and every pixel its blur reaches are fully in or out.
+  const double reach = 0.75 + 7.0 * psf + std::numbers::sqrt2 * kh;
+  r.resize(2 * static_cast<Eigen::Index>(runs.size()));
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const RunData& rd = runs[k];
+    double area = 0.0, moment = 0.0;
+    const int n = rd.x1 - rd.x0 + 1;
+    for (int i = 0; i < n; ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      const Eigen::Vector2d q(rd.nx[iu] - p(0), rd.ny[iu] - p(1));
+      const Eigen::Matrix2d& j = 2 * i < n ? rd.jl : rd.jr;
+      Eigen::Vector2d nrm;
+      const double d = edge_distance(q, mi, j, nrm);
+      double w = w_in;
+      if (d > reach) {
+        w = w_out;
+      } else if (d > -reach) {
+        double c = 0.0;
+        if (kh == 0) {
+          c = edge_pixel_coverage(d, nrm.x(), nrm.y(), psf);
+        } else {
+          // The pixel kernel mixes the neighbours' exact box coverages.
+          for (int dv = -kh; dv <= kh; ++dv) {
+            const double kv = kernel[static_cast<std::size_t>(std::abs(dv))];
+            for (int du = -kh; du <= kh; ++du) {
+              const Eigen::Vector2d qn = q + j * Eigen::Vector2d(du, dv);
+              Eigen::Vector2d nn;
+              const double dn = edge_distance(qn, mi, j, nn);
+              c += kv * kernel[static_cast<std::size_t>(std::abs(du))] *
+                   edge_pixel_coverage(dn, nn.x(), nn.y(), 0.0);
+            }
+          }
+        }
+        w = expected_weight(c, m);
+      }
+      area += w;
+      moment += (static_cast<double>(rd.x0 + i) - rd.mid) * w;
+    }
+    r(2 * static_cast<Eigen::Index>(k)) = area - rd.area;
+    r(2 * static_cast<Eigen::Index>(k) + 1) = (moment - rd.moment) / rd.moment_scale;
+  }
+  return true;
+}
+
+}  // namespace
+
+double expected_weight(double c, const DiscCoverageModel& m) {
+  const double kappa = m.k > 0 ? m.contrast / static_cast<double>(m.k) : 0.0;
+  const double s = m.contrast > 0.0 ? m.noise_grey / m.contrast : 0.0;
+  if (!(s > 1e-9)) {
+    if (c < 0.0) return -kappa * c;
+    if (c < m.dead_lo) return 0.0;
+    if (c < m.dead_hi) return c;
+    return 1.0;
+  }
+  // x = c + e, e ~ N(0, s^2): kappa E[-x; x < 0] + E[x; lo <= x < hi] + P(x >= hi).
+  const double z0 = -c / s, zl = (m.dead_lo - c) / s, zh = (m.dead_hi - c) / s;
+  const double dark = kappa * (s * normal_pdf(z0) - c * normal_cdf(z0));
+  const double mid = c * (normal_cdf(zh) - normal_cdf(zl)) - s * (normal_pdf(zh) - normal_pdf(zl));
+  return dark + mid + (1.0 - normal_cdf(zh));
+}
+
+double edge_pixel_coverage(double d, double nx, double ny, double sigma) {
+  const double a = std::max(std::abs(nx), std::abs(ny)), b = std::min(std::abs(nx), std::abs(ny));
+  const double half = 0.5 * (a + b);
+  if (!(sigma > 0.0)) {
+    // P(u a + v b < -d), u and v uniform on [-1/2, 1/2]: a trapezoid's cdf.
+    const double t = -d;
+    auto lower = [&](double x) {  // x <= 0
+      if (x <= -half) return 0.0;
+      if (x <= -0.5 * (a - b)) return (x + half) * (x + half) / (2.0 * a * b);
+      return (x + 0.5 * a) / a;
+    };
+    return t <= 0.0 ? lower(t) : 1.0 - lower(-t);
+  }
+  if (d <= -half - 8.0 * sigma) return 1.0;
+  if (d >= half + 8.0 * sigma) return 0.0;
+  const double k1 = 0.5 * a - d, k2 = -0.5 * a - d;
+  if (b < 1e-4) {  // edge along a pixel axis: the box is a segment across it
+    return sigma / a * (psi1(k1 / sigma) - psi1(k2 / sigma));
+  }
+  const double hb = 0.5 * b;
+  const double sum = psi2((k1 + hb) / sigma) - psi2((k1 - hb) / sigma) - psi2((k2 + hb) / sigma) +
+                     psi2((k2 - hb) / sigma);
+  return std::clamp(sigma * sigma / (a * b) * sum, 0.0, 1.0);
+}
+
+std::vector<double> pixel_kernel(double sigma) {
+  if (!(sigma > 0.0)) return {1.0};
+  const int half = static_cast<int>(std::ceil(5.0 * sigma));
+  std::vector<double> k(static_cast<std::size_t>(half) + 1);
+  double sum = 0.0;
+  for (int i = -half; i <= half; ++i) sum += std::exp(-0.5 * i * i / (sigma * sigma));
+  for (int i = 0; i <= half; ++i)
+    k[static_cast<std::size_t>(i)] = std::exp(-0.5 * i * i / (sigma * sigma)) / sum;
+  while (k.size() > 1 && k.back() < 1e-7) k.pop_back();
+  return k;
+}
+
+std::optional<CoverageFit> fit_disc_coverage(std::span<const stream::RunRecord> disc_runs,
+                                             const Ellipse& start, const DiscCoverageModel& model,
+                                             const CameraModel& camera, int width, int height) {
+  if (model.k == 0 || !(model.contrast > 0.0)) return std::nullopt;
+  std::vector<RunData> runs;
+  runs.reserve(disc_runs.size());
+  const double k = static_cast<double>(model.k);
+  for (const stream::RunRecord& r : disc_runs) {
+    if (r.row == 0 || r.row + 1 >= height || r.x_start == 0 || r.x_end + 1 >= width) continue;
+    RunData rd;
+    rd.x0 = r.x_start - 1;
+    rd.x1 = r.x_end + 1;
+    rd.y = r.row;
+    rd.mid = 0.5 * (rd.x0 + rd.x1);
+    rd.area = static_cast<double>(r.sum_w) / k;
+    rd.moment = (static_cast<double>(r.sum_xw) - rd.mid * static_cast<double>(r.sum_w)) / k;
+    rd.moment_scale = std::max(1.0, rd.area);
+    const int n = rd.x1 - rd.x0 + 1;
+    std::vector<double> us(static_cast<std::size_t>(n)), vs(us.size(), static_cast<double>(rd.y));
+    for (int i = 0; i < n; ++i) us[static_cast<std::size_t>(i)] = rd.x0 + i;
+    rd.nx.resize(us.size());
+    rd.ny.resize(us.size());
+    camera.normalise(us, vs, rd.nx, rd.ny);
+    rd.jl = pixel_jacobian(camera, rd.x0 + 1.0, rd.y);
+    rd.jr = pixel_jacobian(camera, rd.x1 - 1.0, rd.y);
+    runs.push_back(std::move(rd));
+  }
+  if (runs.size() < 6) return std::nullopt;
+  const double w_in = expected_weight(1.0, model), w_out = expected_weight(0.0, model);
+  const std::vector<double> kernel = pixel_kernel(model.kernel_sigma_px);
+
+  Params p = to_params(start);
+  Eigen::VectorXd r;
+  if (!residuals(p, runs, model, kernel, w_in, w_out, r)) return std::nullopt;
+  double cost = r.squaredNorm();
+  double lambda = 1e-3;
+  const double scale = std::sqrt(p(2) + p(4));
+  // Central differences: steps of about 1e-3 px (centre) and 1e-4 of the size.
+  auto jacobian = [&](const Params& at, Eigen::MatrixXd& jac) {
+    jac.resize(r.size(), 5);
+    for (int j = 0; j < 5; ++j) {
+      const double h = j < 2 ? 2e-6 * scale : 2e-4 * scale * scale;
+      Params pp = at, pm = at;
+      pp(j) += h;
+      pm(j) -= h;
+      Eigen::VectorXd rp, rm;
+      if (!residuals(pp, runs, model, kernel, w_in, w_out, rp) ||
+          !residuals(pm, runs, model, kernel, w_in, w_out, rm)) {
+        return false;
+      }
+      jac.col(j) = (rp - rm) / (2.0 * h);
+    }
+    return true;
+  };
+  int it = 0;
+  for (; it < 30; ++it) {
+    Eigen::MatrixXd jac;
+    if (!jacobian(p, jac)) return std::nullopt;
+    const Eigen::Matrix<double, 5, 5> jtj = jac.transpose() * jac;
+    const Params jtr = jac.transpose() * r;
+    bool improved = false;
+    Params step = Params::Zero();
+    for (int tries = 0; tries < 10 && !improved; ++tries) {
+      Eigen::Matrix<double, 5, 5> a = jtj;
+      for (int j = 0; j < 5; ++j) a(j, j) *= 1.0 + lambda;
+      step = a.ldlt().solve(-jtr);
+      Eigen::VectorXd rn;
+      if (step.allFinite() && residuals(p + step, runs, model, kernel, w_in, w_out, rn) &&
+          rn.squaredNorm() <= cost) {
+        p += step;
+        r = rn;
+        cost = rn.squaredNorm();
+        lambda = std::max(1e-6, lambda / 4.0);
+        improved = true;
+      } else {
+        lambda *= 8.0;
+      }
+    }
+    if (!improved) break;
+    // Converged: the centre moved < 1e-5 px and the size < 1e-7 relative.
+    if (std::abs(step(0)) + std::abs(step(1)) < 2e-8 * scale &&
+        step.tail<3>().cwiseAbs().sum() < 1e-7 * scale * scale) {
+      ++it;
+      break;
+    }
+  }
+  CoverageFit fit;
+  Eigen::Matrix2d cov;
+  cov << p(2), p(3), p(3), p(4);
+  const auto e = ellipse_from_covariance(Eigen::Vector2d(p(0), p(1)), 0.25 * cov);
+  if (!e) return std::nullopt;
+  fit.ellipse = *e;
+  // Parameter covariance: the residuals' variance times (J^T J)^-1 at the
+  // solution (the runs' residuals taken as independent).
+  {
+    Eigen::MatrixXd jac;
+    if (!jacobian(p, jac)) return std::nullopt;
+    const double dof = std::max(1.0, static_cast<double>(r.size()) - 5.0);
+    const Eigen::Matrix<double, 5, 5> jtj = jac.transpose() * jac;
+    fit.ellipse.param_cov = (cost / dof) * jtj.inverse();
+    if (!fit.ellipse.param_cov.allFinite()) fit.ellipse.param_cov.setZero();
+  }
+  fit.runs = static_cast<int>(runs.size());
+  fit.iterations = it;
+  fit.rms_px = std::sqrt(cost / static_cast<double>(r.size()));
+  return fit;
+}
+
+}  // namespace ceilnav::host::pattern

@@ -1,0 +1,64 @@
+// The disc's ellipse fitted to what the device measured of it: every disc
+// run's weight sum and first moment (run + one margin pixel each side) against
+// the same sums predicted, pixel by pixel, for a candidate ellipse seen
+// through the lens's blur, the pixel's area, the pixel noise and the coverage
+// LUT's dead zones (docs/pattern.md, "coverage fit"). Uses every row the
+// device reports, the top and bottom rows of the disc too, and no chord
+// correction: the prediction is made over the run's own pixels.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "host/camera_model.hpp"
+#include "host/pattern/pattern_pose.hpp"
+#include "stream/run_record.hpp"
+
+namespace ceilnav::host::pattern {
+
+// How a pixel's disc coverage c (0..1, after the blur) becomes its run
+// weight: grey = wall + c * contrast + noise; the LUT gives weight / k =
+// (wall - grey) / k below the wall (the dark side's ink), 0 up to
+// dead_lo, c up to dead_hi and 1 from there (golden::pattern::bar_mask_lut).
+struct DiscCoverageModel {
+  uint32_t k = 0;           // run weight of a fully covered pixel
+  double contrast = 0.0;    // disc grey - wall grey
+  double dead_lo = 0.0;     // coverage below this weighs nothing
+  double dead_hi = 1.0;     // coverage from this weighs 1
+  double noise_grey = 0.0;  // the camera's pixel noise (sigma, grey levels; calibrated)
+  // The camera's blur (calibrated), one of two forms: a continuous Gaussian
+  // PSF before the pixels integrate (psf_sigma_px > 0), or a Gaussian kernel
+  // over pixel values after they do (kernel_sigma_px > 0: cv::GaussianBlur's
+  // sampled kernel, half width ceil(5 sigma); the renderer's form,
+  // golden::finish_render). Both 0: no blur.
+  double psf_sigma_px = 0.0;
+  double kernel_sigma_px = 0.0;
+};
+
+// Expected weight / k of a pixel of coverage c under the model (smooth in c).
+double expected_weight(double c, const DiscCoverageModel& m);
+// Coverage of the unit pixel centred at signed distance d (px, > 0 outside)
+// from a straight edge with unit outward normal (nx, ny), blurred by a
+// Gaussian of sigma px: exact box x Gaussian integral (sigma 0: the box's
+// area inside the edge).
+double edge_pixel_coverage(double d, double nx, double ny, double sigma);
+// cv::getGaussianKernel's weights for sigma (half width ceil(5 sigma)) from
+// the centre outward, weights below 1e-7 dropped; {1} for sigma 0.
+std::vector<double> pixel_kernel(double sigma);
+
+struct CoverageFit {
+  Ellipse ellipse;  // normalised coordinates, as ellipse_from_moments
+  int runs = 0, iterations = 0;
+  double rms_px = 0.0;  // RMS residual (area and first moment per run, px)
+};
+// Levenberg-Marquardt from `start` (e.g. ellipse_from_disc_runs or the
+// moments' ellipse). Runs on the image's top and bottom rows are left out
+// (the renderer's and any lens's blur reflects there). Empty with fewer than
+// 6 runs, when the model leaves the image or does not converge.
+std::optional<CoverageFit> fit_disc_coverage(std::span<const stream::RunRecord> disc_runs,
+                                             const Ellipse& start, const DiscCoverageModel& model,
+                                             const CameraModel& camera, int width, int height);
+
+}  // namespace ceilnav::host::pattern
