@@ -110,7 +110,13 @@ Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry
       radiometry.level(gp::PixelClass::background) - radiometry.level(gp::PixelClass::bar);
   bo.radius_m = pose_options.radius_m;
   bo.min_bar_run_weight = a.min_bar_weight;
+  bo.up_cam = pose_options.up_cam;
   a.code = hp::read_barcode(bar_runs, model, grey.cols, bo);
+  if (a.code.status != hp::PatternStatus::ok && !a.disc_cut) {
+    // No row crossed a whole block: read the code on the pattern plane.
+    hp::BarcodeRead plane = hp::read_barcode_with_pose(bar_runs, a.conic, model, grey.cols, bo);
+    if (plane.status == hp::PatternStatus::ok) a.code = std::move(plane);
+  }
   a.conic_bars = hp::refine_with_bars(a.conic, a.code.edges, model, pose_options);
   return a;
 }

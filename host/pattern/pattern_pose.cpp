@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 
@@ -886,6 +887,144 @@ BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraMo
   return out;
 }
 
+BarcodeRead read_barcode_with_pose(std::span<const stream::RunRecord> runs, const PatternPose& pose,
+                                   const CameraModel& camera, int image_width,
+                                   const BarcodeOptions& o) {
+  BarcodeRead out;
+  if (pose.status != PatternStatus::ok && pose.status != PatternStatus::ambiguous) return out;
+  const auto axes = pattern_axes_cam(pose.normal_cam, o.up_cam);
+  if (!axes || !(o.bar_contrast > 0.0)) return out;
+  const Eigen::Vector3d t = pose.centre_cam, n = axes->col(2);
+  const double u = o.bar_unit_m;
+  const double outer = o.radius_m + o.bar_gap_m + 15.0 * u;
+  // Every bar run's ink edges onto the pattern plane, in units from its
+  // block's outer end (side 0 left, 1 right).
+  struct Mapped {
+    const stream::RunRecord* run;
+    double e0, e1;  // extent along the block, units from the outer end
+    Eigen::Vector2d mid;
+    double width;  // normalised, along the row
+  };
+  std::vector<Mapped> mapped[2];
+  auto to_plane = [&](const Eigen::Vector2d& xy, Eigen::Vector2d& pat) {
+    const Eigen::Vector3d ray(xy.x(), xy.y(), 1.0);
+    const double den = n.dot(ray);
+    if (!(std::abs(den) > 1e-12)) return false;
+    const Eigen::Vector3d x = (n.dot(t) / den) * ray - t;
+    pat = Eigen::Vector2d(axes->col(0).dot(x), axes->col(1).dot(x));
+    return true;
+  };
+  for (const auto& r : runs) {
+    if (r.sum_w < o.min_bar_run_weight || r.sum_w == 0) continue;
+    if (r.x_start == 0 || r.x_end + 1 >= image_width) continue;
+    const double centre = static_cast<double>(r.sum_xw) / static_cast<double>(r.sum_w);
+    const double width = static_cast<double>(r.sum_w) / o.bar_contrast;
+    const Eigen::Vector2d l = camera.normalise(centre - 0.5 * width, r.row);
+    const Eigen::Vector2d rr = camera.normalise(centre + 0.5 * width, r.row);
+    Eigen::Vector2d pl, pr;
+    if (!to_plane(l, pl) || !to_plane(rr, pr)) continue;
+    if (std::abs(0.5 * (pl.y() + pr.y())) > 0.5 * o.bar_height_m + 2.0 * u) continue;
+    const double xm = 0.5 * (pl.x() + pr.x());
+    const int side = xm < 0.0 ? 0 : 1;
+    auto units = [&](double x) { return side == 0 ? (x + outer) / u : (outer - x) / u; };
+    const double a = units(pl.x()), b = units(pr.x());
+    if (std::max(a, b) < -1.0 || std::min(a, b) > 16.0) continue;
+    mapped[side].push_back({&r, std::min(a, b), std::max(a, b), 0.5 * (l + rr), rr.x() - l.x()});
+  }
+  // Per block: how many runs cover each 0.1-unit bin; bars are the bins
+  // covered by more than a third of the block's typical count.
+  constexpr double kBin = 0.1, kFrom = -1.0, kTol = 0.35;
+  constexpr int kBins = 170;
+  int value[2] = {-1, -1};
+  std::vector<BarEdge> edges;
+  for (int side = 0; side < 2; ++side) {
+    if (mapped[side].size() < 3 * kBarsPerBlock) continue;
+    std::vector<int> count(kBins, 0);
+    for (const Mapped& m : mapped[side]) {
+      const int b0 = std::max(0, static_cast<int>(std::ceil((m.e0 - kFrom) / kBin - 0.5)));
+      const int b1 = std::min(kBins - 1, static_cast<int>(std::floor((m.e1 - kFrom) / kBin - 0.5)));
+      for (int b = b0; b <= b1; ++b) ++count[static_cast<std::size_t>(b)];
+    }
+    std::vector<int> sorted(count.begin(), count.end());
+    std::sort(sorted.begin(), sorted.end());
+    const int high = sorted[static_cast<std::size_t>(kBins * 9 / 10)];
+    if (high < 3) continue;
+    // Segments above the threshold: [start, end) in units.
+    std::vector<std::pair<double, double>> seg;
+    for (int b = 0; b < kBins; ++b) {
+      const bool on = 3 * count[static_cast<std::size_t>(b)] > high;
+      const bool prev = b > 0 && 3 * count[static_cast<std::size_t>(b - 1)] > high;
+      const double edge = kFrom + b * kBin;
+      if (on && !prev) seg.emplace_back(edge, edge);
+      if (on) seg.back().second = edge + kBin;
+    }
+    if (seg.size() != kBarsPerBlock) continue;
+    // The start bar at 0..3, then gap 1, bar 1 or 2, ..., ending at 15.
+    bool good = std::abs(seg[0].first) <= kTol && std::abs(seg[0].second - 3.0) <= kTol;
+    std::array<int, 5> widths{};
+    double expect = 3.0;
+    for (std::size_t k = 1; k < kBarsPerBlock && good; ++k) {
+      const double w = seg[k].second - seg[k].first;
+      const int wi = static_cast<int>(std::lround(w));
+      good = (wi == 1 || wi == 2) && std::abs(w - wi) <= kTol &&
+             std::abs(seg[k].first - seg[k - 1].second - 1.0) <= kTol &&
+             std::abs(seg[k].first - (expect + 1.0)) <= kTol;
+      widths[k - 1] = wi;
+      expect += 1.0 + wi;
+    }
+    if (!good || std::abs(expect - 15.0) > 0.0) continue;
+    std::array<int, 5> w5{};
+    std::copy(widths.begin(), widths.end(), w5.begin());
+    // Block values: widths from the outer end inward (golden block_widths).
+    int v = -1;
+    for (int cand = 0; cand < 10; ++cand) {
+      const auto [i, j] = kPairs[static_cast<std::size_t>(cand)];
+      bool match = true;
+      for (int k = 0; k < 5; ++k)
+        match = match && w5[static_cast<std::size_t>(k)] == ((k == i || k == j) ? 2 : 1);
+      if (match) v = cand;
+    }
+    if (v < 0) continue;
+    // Each bar needs three runs across its whole width.
+    const auto e = block_edges(v);
+    std::array<int, kBarsPerBlock> across{};
+    std::vector<BarEdge> side_edges;
+    for (const Mapped& m : mapped[side]) {
+      for (std::size_t k = 0; k < kBarsPerBlock; ++k) {
+        const double b0 = e[2 * k], b1 = e[2 * k + 1];
+        const double mid = 0.5 * (m.e0 + m.e1);
+        if (mid < b0 || mid > b1 || m.e1 - m.e0 < 0.8 * (b1 - b0)) continue;
+        ++across[k];
+        const double x0 = side == 0 ? -outer + b0 * u : outer - b1 * u;
+        const double x1 = side == 0 ? -outer + b1 * u : outer - b0 * u;
+        side_edges.push_back({m.mid.x(), m.mid.y(), x0, x1, m.run->row, m.width});
+      }
+    }
+    if (*std::min_element(across.begin(), across.end()) < 3) continue;
+    value[side] = v;
+    edges.insert(edges.end(), side_edges.begin(), side_edges.end());
+  }
+  if (value[0] >= 0 && value[1] >= 0) {
+    const int low = value[1] / 2;
+    if (value[1] % 2 == (value[0] + low) % 2) {
+      out.status = PatternStatus::ok;
+      out.identity = value[0] * 5 + low;
+      out.edges = std::move(edges);
+      return out;
+    }
+    out.status = PatternStatus::unreadable;
+    return out;
+  }
+  if (value[0] >= 0 || value[1] >= 0) {
+    out.status = PatternStatus::partial;
+    out.disc_direction = value[0] >= 0 ? 1 : -1;
+    return out;
+  }
+  out.status = mapped[0].empty() && mapped[1].empty() ? PatternStatus::no_pattern
+                                                      : PatternStatus::unreadable;
+  return out;
+}
+
 namespace {
 // The image of the pattern's disc for a pose (centre t, axes a of the pattern
 // in the camera) as fit_disc_coverage's parameters (centre, S = 4 cov):
@@ -934,9 +1073,6 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
       4.0 * conic.ellipse.cov(0, 1), 4.0 * conic.ellipse.cov(1, 1);
   const Eigen::LLT<Eigen::Matrix<double, 5, 5>> disc_llt(pc);
   const bool disc_prior = !pc.isZero() && disc_llt.info() == Eigen::Success;
-  Eigen::Matrix3d a = *axes0;
-  Eigen::Vector3d t = c0;
-  double bias = 0.0;  // metres: a common shift along x (pattern printing offset)
   // Bars narrower than 2 px are left out: their gaps are about as narrow, so
   // the run's one-pixel margin takes in the neighbours' ink and biases the
   // centroid (measured: up to 0.6 % in D at 3 m, 67.5 deg).
@@ -1009,47 +1145,97 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
     t2 = tt + d.segment<3>(3);
     b2 = bb + d(6);
   };
-  Eigen::VectorXd r0, r1;
-  for (int iteration = 0; iteration < 12; ++iteration) {
-    residuals(a, t, bias, r0);
-    // Robust: down-weight rows beyond 3 sigma of their bar's mean (once per iteration).
-    for (std::size_t i = 0; i < edges.size(); ++i) {
-      if (bar_of[i] < 0) continue;
-      const double ri = std::abs(r0(static_cast<Eigen::Index>(i))) / weight[i];
-      weight[i] = ri > 3.0 ? 3.0 / ri : 1.0;
+  // Gauss-Newton from a start pose; the robust cost at the end (Huber at 3
+  // sigma on the rows, squares elsewhere) to compare starts.
+  auto solve = [&](Eigen::Matrix3d& a, Eigen::Vector3d& t, double& cost) {
+    double bias = 0.0;  // metres: a common shift along x (pattern printing offset)
+    std::fill(weight.begin(), weight.end(), 1.0);
+    Eigen::VectorXd r0, r1;
+    for (int iteration = 0; iteration < 12; ++iteration) {
+      residuals(a, t, bias, r0);
+      // Robust: down-weight rows beyond 3 sigma of their bar's mean (once per iteration).
+      for (std::size_t i = 0; i < edges.size(); ++i) {
+        if (bar_of[i] < 0) continue;
+        const double ri = std::abs(r0(static_cast<Eigen::Index>(i))) / weight[i];
+        weight[i] = ri > 3.0 ? 3.0 / ri : 1.0;
+      }
+      residuals(a, t, bias, r0);
+      Eigen::MatrixXd jac(static_cast<Eigen::Index>(n_res), 7);
+      const double steps[7] = {1e-6, 1e-6, 1e-6, 1e-6 * t.norm(), 1e-6 * t.norm(), 1e-6 * t.norm(),
+                               1e-6};
+      for (int j = 0; j < 7; ++j) {
+        Eigen::Matrix<double, 7, 1> d = Eigen::Matrix<double, 7, 1>::Zero();
+        d(j) = steps[j];
+        Eigen::Matrix3d a2;
+        Eigen::Vector3d t2;
+        double b2 = 0.0;
+        apply(a, t, bias, d, a2, t2, b2);
+        residuals(a2, t2, b2, r1);
+        jac.col(j) = (r1 - r0) / steps[j];
+      }
+      Eigen::Matrix<double, 7, 7> h = jac.transpose() * jac;
+      h.diagonal() *= 1.0 + 1e-9;
+      const Eigen::Matrix<double, 7, 1> g = jac.transpose() * r0;
+      const Eigen::Matrix<double, 7, 1> delta = -h.ldlt().solve(g);
+      if (!delta.allFinite()) return false;
+      apply(a, t, bias, delta, a, t, bias);
+      if (delta.head<3>().norm() < 1e-10 && delta.segment<3>(3).norm() < 1e-10 * t.norm()) break;
     }
+    if (!a.allFinite() || !t.allFinite() || !(t.z() > 0.0)) return false;
+    std::fill(weight.begin(), weight.end(), 1.0);
     residuals(a, t, bias, r0);
-    Eigen::MatrixXd jac(static_cast<Eigen::Index>(n_res), 7);
-    const double steps[7] = {1e-6, 1e-6, 1e-6, 1e-6 * t.norm(), 1e-6 * t.norm(), 1e-6 * t.norm(),
-                             1e-6};
-    for (int j = 0; j < 7; ++j) {
-      Eigen::Matrix<double, 7, 1> d = Eigen::Matrix<double, 7, 1>::Zero();
-      d(j) = steps[j];
-      Eigen::Matrix3d a2;
-      Eigen::Vector3d t2;
-      double b2 = 0.0;
-      apply(a, t, bias, d, a2, t2, b2);
-      residuals(a2, t2, b2, r1);
-      jac.col(j) = (r1 - r0) / steps[j];
+    cost = 0.0;
+    for (Eigen::Index i = 0; i < r0.size(); ++i) {
+      const double z = std::abs(r0(i));
+      cost += i < static_cast<Eigen::Index>(edges.size()) && z > 3.0 ? 6.0 * z - 9.0 : z * z;
     }
-    Eigen::Matrix<double, 7, 7> h = jac.transpose() * jac;
-    h.diagonal() *= 1.0 + 1e-9;
-    const Eigen::Matrix<double, 7, 1> g = jac.transpose() * r0;
-    const Eigen::Matrix<double, 7, 1> delta = -h.ldlt().solve(g);
-    if (!delta.allFinite()) return conic;
-    apply(a, t, bias, delta, a, t, bias);
-    if (delta.head<3>().norm() < 1e-10 && delta.segment<3>(3).norm() < 1e-10 * t.norm()) break;
+    return true;
+  };
+  // Starts: the conic's pose and, with the disc's own prior, the other circle
+  // pose of the same ellipse (the seed's two-way ambiguity, eq. 14): the
+  // bars' perspective tells them apart where no side wall shows.
+  struct Start {
+    Eigen::Matrix3d a;
+    Eigen::Vector3d t;
+    Eigen::Vector3d n0;
+  };
+  std::vector<Start> starts{{*axes0, c0, n0}};
+  if (disc_prior) {
+    for (const CirclePose& cp :
+         circle_poses_from_conic(conic_from_ellipse(conic.ellipse), o.radius_m)) {
+      if (cp.normal.dot(n0) > std::cos(1e-6)) continue;  // the conic's own
+      const auto ax = pattern_axes_cam(cp.normal, o.up_cam);
+      if (ax) starts.push_back({*ax, cp.centre, cp.normal});
+    }
   }
-  if (!a.allFinite() || !t.allFinite() || !(t.z() > 0.0)) return conic;
-  // A fit that wandered far from the conic pose is not trusted.
-  if (std::abs(t.norm() / c0.norm() - 1.0) > 0.05 ||
-      a.col(2).dot(n0) < std::cos(5.0 * kPi / 180.0)) {
-    return conic;
+  double best_cost = std::numeric_limits<double>::infinity(), other_cost = best_cost;
+  std::optional<std::pair<Eigen::Matrix3d, Eigen::Vector3d>> best;
+  for (Start& st : starts) {
+    double cost = 0.0;
+    if (!solve(st.a, st.t, cost)) continue;
+    // A fit that wandered far from its start is not trusted.
+    if (std::abs(st.t.norm() / c0.norm() - 1.0) > 0.05 ||
+        st.a.col(2).dot(st.n0) < std::cos(5.0 * kPi / 180.0)) {
+      continue;
+    }
+    if (cost < best_cost) {
+      other_cost = best_cost;
+      best_cost = cost;
+      best = {st.a, st.t};
+    } else {
+      other_cost = std::min(other_cost, cost);
+    }
   }
+  if (!best) return conic;
   PatternPose p = conic;
-  p.centre_cam = t;
-  p.normal_cam = a.col(2);
-  spherical_from_pose(t, a, p);
+  p.centre_cam = best->second;
+  p.normal_cam = best->first.col(2);
+  spherical_from_pose(best->second, best->first, p);
+  // Resolved by the bars when the other start fits worse by > 5 sigma.
+  if (starts.size() == 2 && other_cost - best_cost > 25.0 && !p.beta_resolved) {
+    p.beta_resolved = true;
+    p.status = PatternStatus::ok;
+  }
   return p;
 }
 

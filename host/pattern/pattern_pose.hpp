@@ -184,6 +184,10 @@ struct BarcodeOptions {
   // With bar_contrast > 0: runs lighter than this are not bars (the disc's
   // runs with golden::pattern::device_config; bar_run_min_weight).
   uint32_t min_bar_run_weight = 1;
+  // For read_barcode_with_pose: the bars' height and the world vertical in
+  // camera coordinates (PoseOptions::up_cam).
+  double bar_height_m = 0.70;
+  Eigen::Vector3d up_cam{0.0, -1.0, 0.0};
 };
 // One bar seen on a row: normalised (undistorted) image point of its ink
 // centroid, the bar's pattern-frame x extent, the image row, its width along
@@ -204,6 +208,18 @@ struct BarcodeRead {
 };
 BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraModel& camera,
                          int image_width, const BarcodeOptions& o = {});
+
+// The code read on the pattern plane (docs/pattern.md): with the disc's pose,
+// every bar run's ink edges are mapped onto the pattern plane, the runs
+// covering each 0.1-unit step along each block are counted, and the block is
+// read from that profile (start bar 0..3 units, gaps of 1, bars of 1 or 2,
+// ending at 15; each bound within 0.35 unit; three runs across every bar).
+// For views where no image row crosses a whole block (steep and slanted):
+// ok with the bars' edges (those crossing a whole bar) for refine_with_bars,
+// partial (one block), unreadable or no_pattern. Needs bar_contrast > 0.
+BarcodeRead read_barcode_with_pose(std::span<const stream::RunRecord> runs, const PatternPose& pose,
+                                   const CameraModel& camera, int image_width,
+                                   const BarcodeOptions& o);
 
 // The conic pose refined with the bar edges (seed §V: the bar codes' known
 // dimensions "for double checking or averaging"): Gauss-Newton on the
