@@ -26,7 +26,7 @@
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
 #include "host/device.hpp"
-#include "host/pattern/disc_coverage.hpp"
+#include "host/pattern/pattern_frame.hpp"
 #include "host/pattern/pattern_pose.hpp"
 #include "host/pattern/pattern_search.hpp"
 
@@ -40,33 +40,14 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 // What the device and the host make of one frame.
-struct Analysis {
+struct Analysis : hp::PatternAnalysis {
   hp::FrameMoments moments{};
-  hp::Extents disc;
   std::vector<stream::RunRecord> runs;
-  uint32_t min_bar_weight = 1;  // lighter runs are the disc's
-  bool disc_cut = false;
-  hp::PatternPose conic, moment, projection;
-  hp::PatternPose conic_bars;  // the conic pose refined with the bar edges
-  hp::BarcodeRead code;
 };
-
-// How the device's coverage LUT (golden::pattern::bar_mask_lut) weighs a disc
-// pixel, with the camera's blur and noise.
-hp::DiscCoverageModel disc_coverage_model(const gp::Radiometry& r, const hp::PoseOptions& o) {
-  hp::DiscCoverageModel m;
-  m.k = gp::disc_coverage_weight(r);
-  m.contrast = r.level(gp::PixelClass::pattern) - r.level(gp::PixelClass::background);
-  m.dead_lo = gp::kCoverageDeadZone / m.contrast;
-  m.dead_hi = 1.0 - m.dead_lo;
-  m.noise_grey = o.noise_grey;
-  (o.blur_on_pixels ? m.kernel_sigma_px : m.psf_sigma_px) = o.psf_sigma_px;
-  return m;
-}
 
 // The frame streams through the device (class LUT, run mask of bars and
 // disc, whole-frame class window); the host works on its class moments and
-// run records.
+// run records (host::pattern::analyse_pattern).
 Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry& radiometry,
                  const host::CameraModel& model, const hp::PoseOptions& pose_options) {
   Analysis a;
@@ -75,49 +56,15 @@ Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry
       device.process(grey, gp::device_config(grey.cols, grey.rows, radiometry), a.runs, cycles);
   if (!res.valid) throw std::runtime_error("pattern: the device rejected the frame");
   a.moments = hp::device_moments(res.class_moments);
-  a.min_bar_weight = gp::bar_run_min_weight(radiometry);
-  auto [disc_runs, bar_runs] = hp::split_disc_runs(a.runs, a.moments[hp::kDisc]);
-  a.disc = hp::disc_extents_from_runs(disc_runs);
-  a.disc_cut = !a.disc.empty() && (a.disc.u_min == 0 || a.disc.v_min == 0 ||
-                                   a.disc.u_max == grey.cols - 1 || a.disc.v_max == grey.rows - 1);
-  a.conic = hp::conic_method(a.moments, model, pose_options);
-  if (a.conic.status != hp::PatternStatus::no_pattern) {
-    // The sub-pixel outline from the disc runs' coverage weights when it fits.
-    const auto outline = hp::ellipse_from_disc_runs(disc_runs, a.moments[hp::kDisc],
-                                                    gp::disc_coverage_weight(radiometry), grey.cols,
-                                                    pose_options.psf_sigma_px, model);
-    if (outline) a.conic = hp::conic_method(*outline, a.moments, model, pose_options);
-    // Then every disc run's coverage sums against the exact prediction for
-    // a candidate ellipse (docs/pattern.md, coverage fit), from the outline
-    // or, when there is none, the moments' ellipse.
-    const auto start = outline ? outline : hp::ellipse_from_moments(a.moments[hp::kDisc], model);
-    if (start) {
-      const auto fit =
-          hp::fit_disc_coverage(disc_runs, *start, disc_coverage_model(radiometry, pose_options),
-                                model, grey.cols, grey.rows);
-      if (fit) a.conic = hp::conic_method(fit->ellipse, a.moments, model, pose_options);
-    }
-  }
-  a.moment = hp::moment_method(a.moments, model, pose_options);
-  a.projection = hp::projection_method(a.disc, a.moments, model, pose_options);
-  if (a.disc_cut) {
-    for (hp::PatternPose* p : {&a.conic, &a.moment, &a.projection}) {
-      p->status = hp::PatternStatus::partial;
-    }
-  }
   hp::BarcodeOptions bo;
   bo.bar_contrast =
       radiometry.level(gp::PixelClass::background) - radiometry.level(gp::PixelClass::bar);
   bo.radius_m = pose_options.radius_m;
-  bo.min_bar_run_weight = a.min_bar_weight;
-  bo.up_cam = pose_options.up_cam;
-  a.code = hp::read_barcode(bar_runs, model, grey.cols, bo);
-  if (a.code.status != hp::PatternStatus::ok && !a.disc_cut) {
-    // No row crossed a whole block: read the code on the pattern plane.
-    hp::BarcodeRead plane = hp::read_barcode_with_pose(bar_runs, a.conic, model, grey.cols, bo);
-    if (plane.status == hp::PatternStatus::ok) a.code = std::move(plane);
-  }
-  a.conic_bars = hp::refine_with_bars(a.conic, a.code.edges, model, pose_options);
+  bo.min_bar_run_weight = gp::bar_run_min_weight(radiometry);
+  static_cast<hp::PatternAnalysis&>(a) = hp::analyse_pattern(
+      a.runs, a.moments, model, grey.cols, grey.rows, pose_options, bo,
+      gp::disc_coverage_model(radiometry, pose_options.noise_grey, pose_options.psf_sigma_px,
+                              pose_options.blur_on_pixels));
   return a;
 }
 

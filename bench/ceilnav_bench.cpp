@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -20,11 +21,13 @@
 #include <opencv2/core.hpp>
 
 #include "apps/default_scene.hpp"
+#include "golden/pattern/pattern.hpp"
 #include "golden/pipeline_ref.hpp"
 #include "golden/renderer.hpp"
 #include "host/auto_threshold.hpp"
 #include "host/camera_model.hpp"
 #include "host/driver.hpp"
+#include "host/pattern/pattern_frame.hpp"
 #include "host/sim_bus.hpp"
 #include "host/tape_pose.hpp"
 #include "stream/axi_lite.hpp"
@@ -388,6 +391,50 @@ void BM_HostPose(benchmark::State& state) {
   state.counters["runs/frame"] = static_cast<double>(runs) / static_cast<double>(w.runs.size());
 }
 BENCHMARK(BM_HostPose)->Unit(benchmark::kMicrosecond);
+
+// (6) Host maths of a pattern frame (seed 003) at D = state.range(0) m,
+// theta 45 deg, beta 60 deg (640x480, noise 3, blur 0.5, the error study's
+// camera): host::pattern::analyse_pattern on the device's class moments and
+// runs (coverage fit, poses, bar code, refinement). docs/pattern.md.
+void BM_PatternHost(benchmark::State& state) {
+  namespace gp = golden::pattern;
+  namespace hp = host::pattern;
+  const double d = static_cast<double>(state.range(0));
+  host::CameraConfig camera = app::default_camera();
+  const host::CameraModel model(camera);
+  const gp::Radiometry radiometry;
+  const gp::PatternView view =
+      gp::spherical_view(d, 45.0 * std::numbers::pi / 180.0, 60.0 * std::numbers::pi / 180.0);
+  gp::PatternRenderParams params;
+  params.noise_sigma_grey = 3.0;
+  const cv::Mat grey = gp::render_pattern(camera, {}, radiometry, 17, view, params);
+  stream::Pipeline pipeline;
+  pipeline.set_config(gp::device_config(grey.cols, grey.rows, radiometry));
+  std::vector<stream::RunRecord> runs;
+  const stream::FrameResults res =
+      pipeline.process_frame(grey.data, grey.cols, grey.rows, grey.step, &runs);
+  const hp::FrameMoments m = hp::device_moments(res.class_moments);
+  hp::PoseOptions po;
+  po.up_cam = view.rotation.col(1);
+  hp::BarcodeOptions bo;
+  bo.bar_contrast =
+      radiometry.level(gp::PixelClass::background) - radiometry.level(gp::PixelClass::bar);
+  bo.min_bar_run_weight = gp::bar_run_min_weight(radiometry);
+  const hp::DiscCoverageModel cov = gp::disc_coverage_model(radiometry, 3.0, 0.5, true);
+  int iterations = 0;
+  for (auto _ : state) {
+    const hp::PatternAnalysis a =
+        hp::analyse_pattern(runs, m, model, grey.cols, grey.rows, po, bo, cov);
+    if (a.code.identity != 17 || !a.fit) state.SkipWithError("pattern not read");
+    iterations = a.fit ? a.fit->iterations : 0;
+    benchmark::DoNotOptimize(a);
+  }
+  state.counters["frames/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["runs/frame"] = static_cast<double>(runs.size());
+  state.counters["fit_iterations"] = iterations;
+}
+BENCHMARK(BM_PatternHost)->Arg(1)->Arg(3)->Arg(5)->Unit(benchmark::kMillisecond);
 
 // Console output plus the finished counters of every run, by benchmark name.
 class RecordingReporter : public benchmark::ConsoleReporter {

@@ -295,6 +295,18 @@ uint32_t disc_coverage_weight(const Radiometry& r) {
   return static_cast<uint32_t>(255 - bar_run_background(r));
 }
 
+host::pattern::DiscCoverageModel disc_coverage_model(const Radiometry& r, double noise_grey,
+                                                     double blur_sigma_px, bool blur_on_pixels) {
+  host::pattern::DiscCoverageModel m;
+  m.k = disc_coverage_weight(r);
+  m.contrast = r.level(PixelClass::pattern) - r.level(PixelClass::background);
+  m.dead_lo = kCoverageDeadZone / m.contrast;
+  m.dead_hi = 1.0 - m.dead_lo;
+  m.noise_grey = noise_grey;
+  (blur_on_pixels ? m.kernel_sigma_px : m.psf_sigma_px) = blur_sigma_px;
+  return m;
+}
+
 uint8_t bar_run_background(const Radiometry& r) {
   const double wall = r.level(PixelClass::background);
   return static_cast<uint8_t>(std::clamp(255.0 - wall, 0.0, 255.0));

@@ -22,6 +22,7 @@
 
 #include "golden/renderer.hpp"
 #include "host/camera_config.hpp"
+#include "host/pattern/disc_coverage.hpp"
 #include "stream/config.hpp"
 #include "stream/run_record.hpp"
 
@@ -130,6 +131,12 @@ inline constexpr double kCoverageDeadZone = 9.0;
 // A full disc pixel's run weight with device_config (255 - background): a
 // disc run's sum_w / this is its chord in pixels, sum_xw / sum_w its centroid.
 uint32_t disc_coverage_weight(const Radiometry& r);
+
+// How bar_mask_lut weighs a disc pixel (host::pattern::fit_disc_coverage's
+// model), for a camera of pixel noise noise_grey and blur blur_sigma_px (on
+// pixel values, as finish_render renders it, or a continuous PSF).
+host::pattern::DiscCoverageModel disc_coverage_model(const Radiometry& r, double noise_grey,
+                                                     double blur_sigma_px, bool blur_on_pixels);
 
 // The run records of a grey frame with device_config (stream::Pipeline's
 // frame-at-a-time path): bar runs and disc runs.

@@ -31,7 +31,13 @@ struct RunData {
   double mid = 0.0, area = 0.0, moment = 0.0, moment_scale = 1.0;
   std::vector<double> nx, ny;
   Eigen::Matrix2d jl, jr;
+  // Pixels in0..in1 lie so deep inside the start ellipse (kInteriorMarginPx
+  // beyond the blur's reach) that they weigh w_in throughout the fit; their
+  // count and sum of (x - mid).
+  int in0 = 0, in1 = -1;
+  double in_offsets = 0.0;
 };
+constexpr double kInteriorMarginPx = 3.0;
 
 Eigen::Matrix2d pixel_jacobian(const CameraModel& camera, double u, double v) {
   const double h = 0.5;
@@ -59,15 +65,16 @@ Params to_params(const Ellipse& e) {
 double edge_distance(const Eigen::Vector2d& q, const Eigen::Matrix2d& mi, const Eigen::Matrix2d& j,
                      Eigen::Vector2d& n) {
   const Eigen::Vector2d mq = mi * q;
-  const double rho = std::sqrt(std::max(q.dot(mq), 0.0));
-  if (!(rho > 1e-12)) {
+  const double rho2 = q.dot(mq);
+  if (!(rho2 > 1e-24)) {
     n = Eigen::Vector2d(1.0, 0.0);
     return -1e9;
   }
-  const Eigen::Vector2d g = j.transpose() * (mq / rho);
-  const double gn = g.norm();
+  const double rho = std::sqrt(rho2);
+  const Eigen::Vector2d g = j.transpose() * mq;  // rho times the gradient of rho
+  const double gn = std::sqrt(g.squaredNorm());
   n = g / gn;
-  return (rho - 1.0) / gn;
+  return (rho - 1.0) * rho / gn;
 }
 
 // The area of the pixel at normalised offset q from the centre inside the
@@ -101,52 +108,138 @@ double box_coverage(const Eigen::Vector2d& q, const Eigen::Matrix2d& mi, const E
   return sum / (kSub * kSub);
 }
 
+// Beyond this distance (px) a pixel and every pixel its blur reaches are
+// fully in or out.
+double blur_reach(const DiscCoverageModel& m, int kernel_half) {
+  const double psf = m.kernel_sigma_px > 0.0 ? 0.0 : m.psf_sigma_px;
+  return 0.75 + 7.0 * psf + std::numbers::sqrt2 * kernel_half;
+}
+
+Eigen::Matrix2d shape_inverse(const Params& p) {
+  Eigen::Matrix2d s;
+  s << p(2), p(3), p(3), p(4);
+  return s.inverse();
+}
+
 // Residuals of every run for parameters p; false when S is not positive definite.
 bool residuals(const Params& p, const std::vector<RunData>& runs, const DiscCoverageModel& m,
                const std::vector<double>& kernel, double w_in, double w_out, Eigen::VectorXd& r) {
-  Eigen::Matrix2d s;
-  s << p(2), p(3), p(3), p(4);
-  if (!(s(0, 0) > 0.0) || !(s.determinant() > 0.0)) return false;
-  const Eigen::Matrix2d mi = s.inverse();
+  if (!(p(2) > 0.0) || !(p(2) * p(4) - p(3) * p(3) > 0.0)) return false;
+  const Eigen::Matrix2d mi = shape_inverse(p);
   const int kh = static_cast<int>(kernel.size()) - 1;
   const double psf = m.kernel_sigma_px > 0.0 ? 0.0 : m.psf_sigma_px;
-  // Beyond this a pixel and every pixel its blur reaches are fully in or out.
-  const double reach = 0.75 + 7.0 * psf + std::numbers::sqrt2 * kh;
+  const double reach = blur_reach(m, kh);
+  std::vector<double> cells, dist;
+  std::vector<Eigen::Vector2d> normal;
   r.resize(2 * static_cast<Eigen::Index>(runs.size()));
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const RunData& rd = runs[k];
-    double area = 0.0, moment = 0.0;
     const int n = rd.x1 - rd.x0 + 1;
-    for (int i = 0; i < n; ++i) {
-      const auto iu = static_cast<std::size_t>(i);
-      const Eigen::Vector2d q(rd.nx[iu] - p(0), rd.ny[iu] - p(1));
-      const Eigen::Matrix2d& j = 2 * i < n ? rd.jl : rd.jr;
-      Eigen::Vector2d nrm;
-      const double d = edge_distance(q, mi, j, nrm);
-      double w = w_in;
-      if (d > reach) {
-        w = w_out;
-      } else if (d > -reach) {
-        double c = 0.0;
-        if (kh == 0) {
-          c = edge_pixel_coverage(d, nrm.x(), nrm.y(), psf);
-        } else {
-          // The pixel kernel mixes the neighbours' exact box coverages.
+    const int n_in = rd.in1 >= rd.in0 ? rd.in1 - rd.in0 + 1 : 0;
+    double area = w_in * n_in, moment = w_in * rd.in_offsets;
+    auto q_of =
+        [&](int i) -> Eigen::Vector2d {  // normalised offset of pixel i (extrapolated off the run)
+      const int c = std::clamp(i, 0, n - 1);
+      const auto cu = static_cast<std::size_t>(c);
+      const Eigen::Matrix2d& j = 2 * c < n ? rd.jl : rd.jr;
+      return Eigen::Vector2d(rd.nx[cu] - p(0), rd.ny[cu] - p(1)) + j.col(0) * (i - c);
+    };
+    // Pixels i0..i1 of the run, which the edge may reach.
+    auto segment = [&](int i0, int i1) {
+      if (i1 < i0) return;
+      // Pass 1: each pixel's distance; pixels within the blur's reach of the
+      // edge need their coverage.
+      int near0 = i1 + 1, near1 = i0 - 1;
+      dist.resize(static_cast<std::size_t>(i1 - i0 + 1));
+      normal.resize(dist.size());
+      for (int i = i0; i <= i1; ++i) {
+        const auto iu = static_cast<std::size_t>(i - i0);
+        dist[iu] = edge_distance(q_of(i), mi, 2 * i < n ? rd.jl : rd.jr, normal[iu]);
+        if (std::abs(dist[iu]) <= reach) {
+          near0 = std::min(near0, i);
+          near1 = i;
+        }
+      }
+      const int cols = near1 - near0 + 1 + 2 * kh, rows = 2 * kh + 1;
+      if (kh > 0 && near1 >= near0) {
+        // Exact box coverage of every cell the pixel kernel reaches, once.
+        cells.assign(static_cast<std::size_t>(cols * rows), 0.0);
+        for (int c = 0; c < cols; ++c) {
+          const int i = near0 - kh + c;
+          const Eigen::Matrix2d& j = 2 * std::clamp(i, 0, n - 1) < n ? rd.jl : rd.jr;
+          const Eigen::Vector2d q = q_of(i);
           for (int dv = -kh; dv <= kh; ++dv) {
-            const double kv = kernel[static_cast<std::size_t>(std::abs(dv))];
-            for (int du = -kh; du <= kh; ++du) {
-              c += kv * kernel[static_cast<std::size_t>(std::abs(du))] *
-                   box_coverage(q + j * Eigen::Vector2d(du, dv), mi, j);
-            }
+            cells[static_cast<std::size_t>((dv + kh) * cols + c)] =
+                box_coverage(q + j.col(1) * dv, mi, j);
           }
         }
-        w = expected_weight(c, m);
       }
-      area += w;
-      moment += (static_cast<double>(rd.x0 + i) - rd.mid) * w;
+      for (int i = i0; i <= i1; ++i) {
+        const double d = dist[static_cast<std::size_t>(i - i0)];
+        const Eigen::Vector2d& nrm = normal[static_cast<std::size_t>(i - i0)];
+        double w = w_in;
+        if (d > reach) {
+          w = w_out;
+        } else if (d > -reach) {
+          double c = 0.0;
+          if (kh == 0) {
+            c = edge_pixel_coverage(d, nrm.x(), nrm.y(), psf);
+          } else {
+            // The pixel kernel mixes the neighbours' exact box coverages.
+            for (int dv = 0; dv < rows; ++dv) {
+              const double kv = kernel[static_cast<std::size_t>(std::abs(dv - kh))];
+              const double* row = &cells[static_cast<std::size_t>(dv * cols + (i - near0))];
+              for (int du = 0; du < rows; ++du) {
+                c += kv * kernel[static_cast<std::size_t>(std::abs(du - kh))] *
+                     row[static_cast<std::size_t>(du)];
+              }
+            }
+          }
+          w = expected_weight(c, m);
+        }
+        area += w;
+        moment += (static_cast<double>(rd.x0 + i) - rd.mid) * w;
+      }
+    };
+    if (n_in > 0) {
+      segment(0, rd.in0 - 1);
+      segment(rd.in1 + 1, n - 1);
+    } else {
+      segment(0, n - 1);
     }
     r(2 * static_cast<Eigen::Index>(k)) = area - rd.area;
     r(2 * static_cast<Eigen::Index>(k) + 1) = (moment - rd.moment) / rd.moment_scale;
+  }
+  return true;
+}
+
+// Marks each run's deep interior for parameters p (see RunData); false when
+// the given interiors are no longer deep enough (check = true).
+bool mark_interiors(const Params& p, std::vector<RunData>& runs, double reach, bool check) {
+  const Eigen::Matrix2d mi = shape_inverse(p);
+  for (RunData& rd : runs) {
+    const int n = rd.x1 - rd.x0 + 1;
+    auto depth = [&](int i) {
+      const auto iu = static_cast<std::size_t>(i);
+      Eigen::Vector2d nrm;
+      return edge_distance(Eigen::Vector2d(rd.nx[iu] - p(0), rd.ny[iu] - p(1)), mi,
+                           2 * i < n ? rd.jl : rd.jr, nrm);
+    };
+    if (check) {
+      // The distance along a chord of a convex region is largest at its ends.
+      if (rd.in1 >= rd.in0 && (depth(rd.in0) > -reach || depth(rd.in1) > -reach)) return false;
+      continue;
+    }
+    rd.in0 = 0;
+    rd.in1 = -1;
+    rd.in_offsets = 0.0;
+    for (int i = 0; i < n; ++i) {
+      if (depth(i) < -(reach + kInteriorMarginPx)) {
+        if (rd.in1 < rd.in0) rd.in0 = i;
+        rd.in1 = i;
+      }
+    }
+    for (int i = rd.in0; i <= rd.in1; ++i) rd.in_offsets += rd.x0 + i - rd.mid;
   }
   return true;
 }
@@ -238,32 +331,33 @@ std::optional<CoverageFit> fit_disc_coverage(std::span<const stream::RunRecord> 
   const std::vector<double> kernel = pixel_kernel(model.kernel_sigma_px);
 
   Params p = to_params(start);
+  const double reach = blur_reach(model, static_cast<int>(kernel.size()) - 1);
+  if (!(p(2) > 0.0) || !(p(2) * p(4) - p(3) * p(3) > 0.0)) return std::nullopt;
+  mark_interiors(p, runs, reach, false);
   Eigen::VectorXd r;
   if (!residuals(p, runs, model, kernel, w_in, w_out, r)) return std::nullopt;
   double cost = r.squaredNorm();
   double lambda = 1e-3;
   const double scale = std::sqrt(p(2) + p(4));
   // Central differences: steps of about 1e-3 px (centre) and 1e-4 of the size.
-  auto jacobian = [&](const Params& at, Eigen::MatrixXd& jac) {
-    jac.resize(r.size(), 5);
+  // Forward differences from the residuals r_at at `at`: steps of about
+  // 1e-3 px (centre) and 1e-4 of the size.
+  auto jacobian = [&](const Params& at, const Eigen::VectorXd& r_at, Eigen::MatrixXd& jac) {
+    jac.resize(r_at.size(), 5);
     for (int j = 0; j < 5; ++j) {
       const double h = j < 2 ? 2e-6 * scale : 2e-4 * scale * scale;
-      Params pp = at, pm = at;
+      Params pp = at;
       pp(j) += h;
-      pm(j) -= h;
-      Eigen::VectorXd rp, rm;
-      if (!residuals(pp, runs, model, kernel, w_in, w_out, rp) ||
-          !residuals(pm, runs, model, kernel, w_in, w_out, rm)) {
-        return false;
-      }
-      jac.col(j) = (rp - rm) / (2.0 * h);
+      Eigen::VectorXd rp;
+      if (!residuals(pp, runs, model, kernel, w_in, w_out, rp)) return false;
+      jac.col(j) = (rp - r_at) / h;
     }
     return true;
   };
   int it = 0;
   for (; it < 30; ++it) {
     Eigen::MatrixXd jac;
-    if (!jacobian(p, jac)) return std::nullopt;
+    if (!jacobian(p, r, jac)) return std::nullopt;
     const Eigen::Matrix<double, 5, 5> jtj = jac.transpose() * jac;
     const Params jtr = jac.transpose() * r;
     bool improved = false;
@@ -285,13 +379,15 @@ std::optional<CoverageFit> fit_disc_coverage(std::span<const stream::RunRecord> 
       }
     }
     if (!improved) break;
-    // Converged: the centre moved < 1e-5 px and the size < 1e-7 relative.
-    if (std::abs(step(0)) + std::abs(step(1)) < 2e-8 * scale &&
-        step.tail<3>().cwiseAbs().sum() < 1e-7 * scale * scale) {
+    // Converged: the centre moved < 1e-5 and the size < 1e-6 of the size.
+    if (std::abs(step(0)) + std::abs(step(1)) < 1e-5 * scale &&
+        step.tail<3>().cwiseAbs().sum() < 1e-6 * scale * scale) {
       ++it;
       break;
     }
   }
+  // The fit moved the outline by more than the interiors' margin: not trusted.
+  if (!mark_interiors(p, runs, reach, true)) return std::nullopt;
   CoverageFit fit;
   Eigen::Matrix2d cov;
   cov << p(2), p(3), p(3), p(4);
@@ -302,7 +398,7 @@ std::optional<CoverageFit> fit_disc_coverage(std::span<const stream::RunRecord> 
   // solution (the runs' residuals taken as independent).
   {
     Eigen::MatrixXd jac;
-    if (!jacobian(p, jac)) return std::nullopt;
+    if (!jacobian(p, r, jac)) return std::nullopt;
     const double dof = std::max(1.0, static_cast<double>(r.size()) - 5.0);
     const Eigen::Matrix<double, 5, 5> jtj = jac.transpose() * jac;
     fit.ellipse.param_cov = (cost / dof) * jtj.inverse();

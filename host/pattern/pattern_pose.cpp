@@ -1104,7 +1104,7 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
       double d = 0.0;
       for (const double xe : {e.x0_m, e.x1_m}) {
         const Eigen::Vector3d l = (tt + (xe + bb) * a1).cross(a2);
-        const double norm = std::hypot(l.x(), l.y());
+        const double norm = std::sqrt(l.x() * l.x() + l.y() * l.y());
         d += norm > 0.0 ? 0.5 * (l.x() * e.x + l.y() * e.y + l.z()) / norm : 0.0;
       }
       dist[i] = d;

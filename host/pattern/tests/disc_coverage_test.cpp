@@ -25,14 +25,7 @@ CameraConfig study_camera() {
 }
 
 DiscCoverageModel model_for(const gp::Radiometry& r, double noise, double blur) {
-  DiscCoverageModel m;
-  m.k = gp::disc_coverage_weight(r);
-  m.contrast = r.level(gp::PixelClass::pattern) - r.level(gp::PixelClass::background);
-  m.dead_lo = gp::kCoverageDeadZone / m.contrast;
-  m.dead_hi = 1.0 - m.dead_lo;
-  m.noise_grey = noise;
-  m.kernel_sigma_px = blur;
-  return m;
+  return gp::disc_coverage_model(r, noise, blur, true);
 }
 
 TEST(DiscCoverage, EdgePixelCoverageIsTheBoxGaussianIntegral) {

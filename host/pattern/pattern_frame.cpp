@@ -1,0 +1,47 @@
+#include "host/pattern/pattern_frame.hpp"
+
+#include <utility>
+
+namespace ceilnav::host::pattern {
+
+PatternAnalysis analyse_pattern(std::span<const stream::RunRecord> runs, const FrameMoments& m,
+                                const CameraModel& camera, int width, int height,
+                                const PoseOptions& pose, BarcodeOptions code,
+                                const DiscCoverageModel& coverage) {
+  PatternAnalysis a;
+  auto [disc_runs, bar_runs] = split_disc_runs(runs, m[kDisc]);
+  a.disc = disc_extents_from_runs(disc_runs);
+  a.disc_cut = !a.disc.empty() && (a.disc.u_min == 0 || a.disc.v_min == 0 ||
+                                   a.disc.u_max == width - 1 || a.disc.v_max == height - 1);
+  a.conic = conic_method(m, camera, pose);
+  if (a.conic.status != PatternStatus::no_pattern) {
+    // The sub-pixel outline from the disc runs' coverage weights when it
+    // fits, then every disc run's coverage sums against the exact prediction
+    // for a candidate ellipse (coverage fit), started from the outline or,
+    // when there is none, the moments' ellipse.
+    const auto outline =
+        ellipse_from_disc_runs(disc_runs, m[kDisc], coverage.k, width, pose.psf_sigma_px, camera);
+    if (outline) a.conic = conic_method(*outline, m, camera, pose);
+    const auto start = outline ? outline : ellipse_from_moments(m[kDisc], camera);
+    if (start) {
+      a.fit = fit_disc_coverage(disc_runs, *start, coverage, camera, width, height);
+      if (a.fit) a.conic = conic_method(a.fit->ellipse, m, camera, pose);
+    }
+  }
+  a.moment = moment_method(m, camera, pose);
+  a.projection = projection_method(a.disc, m, camera, pose);
+  if (a.disc_cut) {
+    for (PatternPose* p : {&a.conic, &a.moment, &a.projection}) p->status = PatternStatus::partial;
+  }
+  code.up_cam = pose.up_cam;
+  a.code = read_barcode(bar_runs, camera, width, code);
+  if (a.code.status != PatternStatus::ok && !a.disc_cut) {
+    // No row crossed a whole block: read the code on the pattern plane.
+    BarcodeRead plane = read_barcode_with_pose(bar_runs, a.conic, camera, width, code);
+    if (plane.status == PatternStatus::ok) a.code = std::move(plane);
+  }
+  a.conic_bars = refine_with_bars(a.conic, a.code.edges, camera, pose);
+  return a;
+}
+
+}  // namespace ceilnav::host::pattern
