@@ -339,7 +339,6 @@ std::optional<CoverageFit> fit_disc_coverage(std::span<const stream::RunRecord> 
   double cost = r.squaredNorm();
   double lambda = 1e-3;
   const double scale = std::sqrt(p(2) + p(4));
-  // Central differences: steps of about 1e-3 px (centre) and 1e-4 of the size.
   // Forward differences from the residuals r_at at `at`: steps of about
   // 1e-3 px (centre) and 1e-4 of the size.
   auto jacobian = [&](const Params& at, const Eigen::VectorXd& r_at, Eigen::MatrixXd& jac) {

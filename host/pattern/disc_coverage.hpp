@@ -54,9 +54,12 @@ struct CoverageFit {
   double rms_px = 0.0;  // RMS residual (area and first moment per run, px)
 };
 // Levenberg-Marquardt from `start` (e.g. ellipse_from_disc_runs or the
-// moments' ellipse). Runs on the image's top and bottom rows are left out
-// (the renderer's and any lens's blur reflects there). Empty with fewer than
-// 6 runs, when the model leaves the image or does not converge.
+// moments' ellipse) on every run's two sums; the ellipse comes with its
+// parameter covariance (Ellipse::param_cov). Runs on the image's top and
+// bottom rows and runs touching its left or right edge are left out (the
+// blur reflects at the border). Empty with fewer than 6 runs, when the
+// ellipse degenerates or when the fit moves the outline into the runs' deep
+// interiors (more than 3 px from the start: the start was not close).
 std::optional<CoverageFit> fit_disc_coverage(std::span<const stream::RunRecord> disc_runs,
                                              const Ellipse& start, const DiscCoverageModel& model,
                                              const CameraModel& camera, int width, int height);

@@ -172,5 +172,39 @@ TEST(DiscCoverage, TooFewRunsOrNoContrastIsEmpty) {
   EXPECT_FALSE(fit_disc_coverage({}, e, none, model, 640, 480));
 }
 
+TEST(DiscCoverage, ArbitraryRunsGiveAFiniteEllipseOrNothing) {
+  // Garbage from a broken stream: any rows, bounds and sums. The fit never
+  // throws, and what it returns is finite.
+  const CameraModel model(study_camera());
+  const gp::Radiometry r;
+  std::mt19937_64 rng(23);
+  Ellipse start;
+  start.cx = 0.01;
+  start.cy = -0.02;
+  start.cov << 4e-4, 1e-5, 1e-5, 3e-4;
+  int fitted = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<stream::RunRecord> runs;
+    const int n = static_cast<int>(rng() % 80);
+    for (int k = 0; k < n; ++k) {
+      stream::RunRecord rr;
+      rr.row = static_cast<uint16_t>(200 + rng() % 80);
+      rr.x_start = static_cast<uint16_t>(280 + rng() % 60);
+      rr.x_end = static_cast<uint16_t>(rr.x_start + rng() % 60);
+      rr.sum_w = static_cast<uint32_t>(rng() % 4000);
+      rr.sum_xw = static_cast<uint64_t>(rr.sum_w) * (rr.x_start + rng() % 60);
+      runs.push_back(rr);
+    }
+    const auto fit = fit_disc_coverage(runs, start, model_for(r, 3.0, 0.5), model, 640, 480);
+    if (!fit) continue;
+    ++fitted;
+    EXPECT_TRUE(std::isfinite(fit->ellipse.cx) && std::isfinite(fit->ellipse.cy) &&
+                std::isfinite(fit->ellipse.a) && std::isfinite(fit->ellipse.b) &&
+                fit->ellipse.param_cov.allFinite())
+        << trial;
+  }
+  EXPECT_GT(fitted, 0);  // some garbage still fits some ellipse: the check ran
+}
+
 }  // namespace
 }  // namespace ceilnav::host::pattern
