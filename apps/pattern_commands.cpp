@@ -395,7 +395,9 @@ FixRow make_fix(const Analysis& a, const gp::PatternDatabase& db, const Eigen::V
   } else {
     r.status = "ok";
     const gp::PatternPlacement& pl = *db.find(a.code.identity);
-    const hp::WorldFix w = hp::world_fix(p, {pl.x_m, pl.y_m, pl.z_m, pl.facing_rad}, up_cam);
+    // The world's up as the bars measured it when they refined the pose.
+    const hp::WorldFix w =
+        hp::world_fix(p, {pl.x_m, pl.y_m, pl.z_m, pl.facing_rad}, p.up_cam.value_or(up_cam));
     r.x = w.x_m;
     r.y = w.y_m;
     r.heading = std::remainder(w.camera_yaw_rad - pan_rad, 2.0 * std::numbers::pi) / kDeg;
@@ -449,8 +451,10 @@ int run_pattern_frames(const PatternOptions& o) {
   const gp::Radiometry radiometry;
   host::Device device(device_options(o.backend));
   hp::PoseOptions po = pose_options_for(db.geometry);
-  // The camera is level with no swing (up = -y); the scene's ceiling keys
-  // (camera_pitch_deg, heights, tape width) are not used here.
+  // The camera is taken as level with no swing (up = -y) for the start of
+  // the pose; where the code is read the bars measure the actual up (tilt and
+  // swing) and the fix uses that. The scene's ceiling keys (camera_pitch_deg,
+  // heights, tape width) are not used here.
   po.up_cam = Eigen::Vector3d(0.0, -1.0, 0.0);
   std::vector<FixRow> rows;
   cv::Mat last_overlay;

@@ -1230,6 +1230,7 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
   PatternPose p = conic;
   p.centre_cam = best->second;
   p.normal_cam = best->first.col(2);
+  p.up_cam = best->first.col(1);
   spherical_from_pose(best->second, best->first, p);
   // Resolved by the bars when the other start fits worse by > 5 sigma.
   if (starts.size() == 2 && other_cost - best_cost > 25.0 && !p.beta_resolved) {

@@ -100,6 +100,9 @@ struct PatternPose {
   Eigen::Vector3d centre_cam = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal_cam = Eigen::Vector3d::UnitZ();
   Ellipse ellipse;
+  // The pattern's +y (the world's up) in camera coordinates as the bars
+  // measured it (refine_with_bars); empty when only assumed (PoseOptions::up_cam).
+  std::optional<Eigen::Vector3d> up_cam;
 };
 
 struct PoseOptions {
@@ -223,13 +226,16 @@ BarcodeRead read_barcode_with_pose(std::span<const stream::RunRecord> runs, cons
 
 // The conic pose refined with the bar edges (seed §V: the bar codes' known
 // dimensions "for double checking or averaging"): Gauss-Newton on the
-// rotation, translation and the edges' threshold bias, minimising each
-// edge's distance to the image of its pattern line x = x_pat (which fixes
-// everything but the slide along y), with the conic's centre (all three
-// coordinates: it fixes that slide, and its distance, from the unforeshortened
-// major axis, holds D where the bars only fix cos(theta) / D) and the conic's
-// normal as priors. Returns `conic` unchanged unless it is ok or ambiguous and
-// there are >= 48 edges.
+// rotation and translation, each bar centroid's distance to the image of its
+// bar's edges (rows about their bar's mean, each bar's mean with a common
+// error; docs/pattern.md), against the disc: its fitted image with the fit's
+// covariance (Ellipse::param_cov) or, without one, the conic's centre and
+// normal. Started from both circle poses of the disc's ellipse, the lower
+// cost kept (resolves beta where the shadow could not). Returns `conic`
+// unchanged unless it is ok or ambiguous and there are >= 48 usable edges.
+// The bars fix the pattern's rotation about its normal too: the result's
+// up_cam is the measured world up (a camera tilt or swing other than
+// PoseOptions::up_cam's is measured, not assumed).
 PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> edges,
                              const CameraModel& camera, const PoseOptions& o);
 

@@ -374,6 +374,32 @@ TEST(PatternPoseRendered, BarsResolveBetaWhereNoSideWallShows) {
   }
 }
 
+// A camera swung and tilted other than assumed (level): the bars measure the
+// world's up, and beta and the fix follow the truth.
+TEST(PatternPoseRendered, BarsMeasureTheCamerasUp) {
+  const CameraConfig cam = plain_camera();
+  const CameraModel model(cam);
+  for (double swing : {-8.0, 5.0}) {
+    const gp::PatternView v = gp::spherical_view(2.5, 35.0 * kDeg, 60.0 * kDeg, swing * kDeg);
+    const Frame f = render(cam, v, 19, 3.0);
+    PoseOptions o;  // up_cam: level, no swing (wrong by `swing`)
+    const PatternPose conic = conic_method(f.moments, model, o);
+    PatternPose c = conic;
+    c.ellipse.param_cov = Eigen::Matrix<double, 5, 5>::Identity() * 1e-12;
+    BarcodeOptions bo = code_options();
+    const auto [disc_runs, bar_runs] = split_disc_runs(f.runs, f.moments[kDisc]);
+    const BarcodeRead code = read_barcode(bar_runs, model, cam.image_width, bo);
+    ASSERT_EQ(code.identity, 19) << swing;
+    const PatternPose b = refine_with_bars(c, code.edges, model, o);
+    ASSERT_TRUE(b.up_cam.has_value());
+    const double err = std::acos(std::clamp(b.up_cam->dot(v.rotation.col(1)), -1.0, 1.0)) / kDeg;
+    EXPECT_LT(err, 0.2) << swing;
+    EXPECT_NEAR(std::remainder(b.beta_rad / kDeg - 60.0, 360.0), 0.0, 0.5) << swing;
+    // The conic alone, with the wrong up, is off in beta by about the swing.
+    EXPECT_GT(std::abs(std::remainder(conic.beta_rad / kDeg - 60.0, 360.0)), 2.0) << swing;
+  }
+}
+
 TEST(PatternPoseRendered, BarRefinementIsConsistentWithTheTruth) {
   // The bar centres of a read code refine the conic pose: at 3-4 m, 15-30
   // deg (where the conic's theta is worst) the refined pose is within the
