@@ -306,6 +306,14 @@ std::optional<CoverageFit> fit_disc_coverage(std::span<const stream::RunRecord> 
   std::vector<RunData> runs;
   runs.reserve(disc_runs.size());
   const double k = static_cast<double>(model.k);
+  // Runs the device cannot emit (reversed, beyond the image, overlapping to
+  // more pixels than the image has) are refused, not fitted.
+  int64_t pixels = 0;
+  for (const stream::RunRecord& r : disc_runs) {
+    if (r.x_end < r.x_start || r.x_end >= width || r.row >= height) return std::nullopt;
+    pixels += r.x_end - r.x_start + 1;
+  }
+  if (width < 3 || height < 3 || pixels > int64_t{width} * height) return std::nullopt;
   for (const stream::RunRecord& r : disc_runs) {
     if (r.row == 0 || r.row + 1 >= height || r.x_start == 0 || r.x_end + 1 >= width) continue;
     RunData rd;

@@ -1,6 +1,7 @@
 #include "host/pattern/pattern_frame.hpp"
 
 #include <utility>
+#include <vector>
 
 namespace ceilnav::host::pattern {
 
@@ -36,9 +37,29 @@ PatternAnalysis analyse_pattern(std::span<const stream::RunRecord> runs, const F
   code.up_cam = pose.up_cam;
   a.code = read_barcode(bar_runs, camera, width, code);
   if (a.code.status != PatternStatus::ok && !a.disc_cut) {
-    // No row crossed a whole block: read the code on the pattern plane.
-    BarcodeRead plane = read_barcode_with_pose(bar_runs, a.conic, camera, width, code);
-    if (plane.status == PatternStatus::ok) a.code = std::move(plane);
+    // No row crossed a whole block: read the code on the pattern plane, with
+    // the conic's pose or, where the shadow left beta open, with each of the
+    // ellipse's two poses; a read needs them to agree.
+    std::vector<PatternPose> poses{a.conic};
+    if (a.conic.status == PatternStatus::ambiguous) {
+      for (const CirclePose& cp :
+           circle_poses_from_conic(conic_from_ellipse(a.conic.ellipse), pose.radius_m)) {
+        if (cp.normal.dot(a.conic.normal_cam) > 1.0 - 1e-12) continue;
+        PatternPose other = a.conic;
+        other.centre_cam = cp.centre;
+        other.normal_cam = cp.normal;
+        poses.push_back(other);
+      }
+    }
+    std::optional<BarcodeRead> read;
+    bool conflict = false;
+    for (const PatternPose& p : poses) {
+      BarcodeRead plane = read_barcode_with_pose(bar_runs, p, camera, width, code);
+      if (plane.status != PatternStatus::ok) continue;
+      if (read && read->identity != plane.identity) conflict = true;
+      if (!read) read = std::move(plane);
+    }
+    if (read && !conflict) a.code = std::move(*read);
   }
   a.conic_bars = refine_with_bars(a.conic, a.code.edges, camera, pose);
   return a;
