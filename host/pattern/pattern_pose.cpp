@@ -718,7 +718,11 @@ BarcodeRead read_barcode(std::span<const stream::RunRecord> runs, const CameraMo
   // Bar centres per decoded block, keyed by (side: 0 left, 1 right; value).
   std::map<std::pair<int, int>, std::vector<BarEdge>> block_edges_seen;
   int left_seen = 0, right_seen = 0, any_block = 0;
-  for (auto& [row, rs] : rows) {
+  for (auto& row_runs : rows) {
+    // Not a structured binding: lambdas below capture the row (clang 14
+    // cannot capture bindings).
+    const int row = row_runs.first;
+    auto& rs = row_runs.second;
     std::sort(rs.begin(), rs.end(),
               [](const auto* a, const auto* b) { return a->x_start < b->x_start; });
     // Edges in normalised x along the row; runs touching the border are cut.
