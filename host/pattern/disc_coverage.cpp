@@ -295,7 +295,11 @@ std::vector<double> pixel_kernel(double sigma) {
   for (int i = -half; i <= half; ++i) sum += std::exp(-0.5 * i * i / (sigma * sigma));
   for (int i = 0; i <= half; ++i)
     k[static_cast<std::size_t>(i)] = std::exp(-0.5 * i * i / (sigma * sigma)) / sum;
-  while (k.size() > 1 && k.back() < 1e-7) k.pop_back();
+  // Taps under kMinKernelWeight dropped, the rest renormalised to sum 1.
+  while (k.size() > 1 && k.back() < kMinKernelWeight) k.pop_back();
+  double kept = k[0];
+  for (std::size_t i = 1; i < k.size(); ++i) kept += 2.0 * k[i];
+  for (double& w : k) w /= kept;
   return k;
 }
 
