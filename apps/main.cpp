@@ -256,6 +256,14 @@ int main(int argc, char** argv) {
   pacc_cmd->add_option("--blur", pacc.blur_sigma, "Blur sigma (pixels)")
       ->check(CLI::Range(0.0, 5.0))
       ->capture_default_str();
+  pacc_cmd
+      ->add_option("--calib-blur", pacc.calib_blur_sigma,
+                   "Blur sigma the host assumes (pixels; default: the rendered --blur)")
+      ->check(CLI::Range(0.0, 5.0));
+  pacc_cmd
+      ->add_option("--calib-noise", pacc.calib_noise_sigma,
+                   "Noise sigma the host assumes (grey levels; default: the rendered --noise)")
+      ->check(CLI::Range(0.0, 50.0));
   pacc_cmd->add_flag("!--no-distortion", pacc.distortion, "Camera without lens distortion");
   pacc_cmd->add_option("--betas", pacc.betas, "Random co-azimuths per (D, theta) besides +-90 deg")
       ->check(CLI::Range(0, 20))

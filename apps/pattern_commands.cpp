@@ -182,9 +182,10 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
         const cv::Mat grey = gp::render_pattern(camera, geometry, radiometry, r.identity, v, p);
         const gp::PatternTruth t = gp::pattern_truth(camera, geometry, r.identity, v);
         hp::PoseOptions po = pose_options_for(geometry);
-        po.up_cam = v.rotation.col(1);   // the mount's known tilt (docs/pattern.md)
-        po.psf_sigma_px = o.blur_sigma;  // the camera's blur (calibrated, not per frame)
-        po.noise_grey = o.noise_sigma;   // and its noise
+        po.up_cam = v.rotation.col(1);  // the mount's known tilt (docs/pattern.md)
+        // The camera's blur and noise (calibrated, not per frame).
+        po.psf_sigma_px = o.calib_blur_sigma >= 0.0 ? o.calib_blur_sigma : o.blur_sigma;
+        po.noise_grey = o.calib_noise_sigma >= 0.0 ? o.calib_noise_sigma : o.noise_sigma;
         const Analysis a = analyse(device, grey, radiometry, model, po);
         const hp::PatternPose* poses[4] = {&a.projection, &a.moment, &a.conic, &a.conic_bars};
         for (int m = 0; m < 4; ++m) {
@@ -208,9 +209,13 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
   }
 
   const char* names[4] = {"projection", "moment", "conic", "conic+bars"};
-  std::printf("ceilnav pattern-accuracy: %zu frames, %dx%d, noise %.1f, blur %.2f px, %s\n",
-              rows.size(), o.width, o.height, o.noise_sigma, o.blur_sigma,
-              o.distortion ? "distortion" : "no distortion");
+  std::printf(
+      "ceilnav pattern-accuracy: %zu frames, %dx%d, noise %.1f, blur %.2f px, %s; host "
+      "calibration: noise %.1f, blur %.2f px\n",
+      rows.size(), o.width, o.height, o.noise_sigma, o.blur_sigma,
+      o.distortion ? "distortion" : "no distortion",
+      o.calib_noise_sigma >= 0.0 ? o.calib_noise_sigma : o.noise_sigma,
+      o.calib_blur_sigma >= 0.0 ? o.calib_blur_sigma : o.blur_sigma);
   // Table I shape: theta error vs theta (max |error| over D and beta).
   std::printf("\ntheta error (deg) by theta, max |err| over D (projection: beta = +-90 only)\n");
   std::printf("%8s %12s %12s %12s %12s %12s\n", "theta", "projection", "moment", "conic",

@@ -23,6 +23,10 @@ struct PatternAccuracyOptions {
   int width = 640, height = 480;
   double noise_sigma = 3.0;
   double blur_sigma = 0.5;
+  // The camera's blur and noise as the host believes them (its calibration);
+  // negative: the rendered values (a perfect calibration).
+  double calib_blur_sigma = -1.0;
+  double calib_noise_sigma = -1.0;
   bool distortion = true;
   int betas = 2;  // co-azimuth samples per (D, theta) besides the seed's +-90 deg
   uint64_t seed = 1;

@@ -352,6 +352,8 @@ if [ "$CLI_BACKENDS" = "${CLI_BACKENDS/rtl/}" ]; then
 fi
 expect_error "pattern-accuracy width" "width" "" -- pattern-accuracy --width 10
 expect_error "pattern-accuracy noise" "noise" "" -- pattern-accuracy --noise -2
+expect_error "pattern-accuracy calib blur" "calib-blur" "" -- pattern-accuracy --calib-blur -0.5
+expect_error "pattern-accuracy calib noise" "calib-noise" "" -- pattern-accuracy --calib-noise 99
 expect_error "pattern-accuracy csv folder missing" "writable|folder|exist" "$work/nodir/p.csv" -- pattern-accuracy --csv "$work/nodir/p.csv"
 
 echo "cli: $passed passed, $failed failed"
