@@ -179,6 +179,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
         p.noise_sigma_grey = o.noise_sigma;
         p.blur_sigma_px = o.blur_sigma;
         p.noise_seed = o.seed * 1000003U + frame_seed++;
+        p.supersample = o.supersample;
         const cv::Mat grey = gp::render_pattern(camera, geometry, radiometry, r.identity, v, p);
         const gp::PatternTruth t = gp::pattern_truth(camera, geometry, r.identity, v);
         hp::PoseOptions po = pose_options_for(geometry);
