@@ -264,8 +264,9 @@ int main(int argc, char** argv) {
       ->add_option("--calib-noise", pacc.calib_noise_sigma,
                    "Noise sigma the host assumes (grey levels; default: the rendered --noise)")
       ->check(CLI::Range(0.0, 50.0));
-  pacc_cmd->add_option("--supersample", pacc.supersample,
-                       "Renderer: N x N samples per edge pixel (the frames' own sampling error)")
+  pacc_cmd
+      ->add_option("--supersample", pacc.supersample,
+                   "Renderer: N x N samples per edge pixel (the frames' own sampling error)")
       ->check(CLI::Range(1, 16))
       ->capture_default_str();
   pacc_cmd->add_flag("!--no-distortion", pacc.distortion, "Camera without lens distortion");

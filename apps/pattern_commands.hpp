@@ -29,7 +29,7 @@ struct PatternAccuracyOptions {
   double calib_noise_sigma = -1.0;
   bool distortion = true;
   int supersample = 4;  // renderer's N x N samples per edge pixel
-  int betas = 2;  // co-azimuth samples per (D, theta) besides the seed's +-90 deg
+  int betas = 2;        // co-azimuth samples per (D, theta) besides the seed's +-90 deg
   uint64_t seed = 1;
   std::string backend = "fast";  // fast | model | rtl
   std::string csv;               // per-frame errors, optional
