@@ -42,12 +42,10 @@ PatternAnalysis analyse_pattern(std::span<const stream::RunRecord> runs, const F
     // ellipse's two poses; a read needs them to agree.
     std::vector<PatternPose> poses{a.conic};
     if (a.conic.status == PatternStatus::ambiguous) {
-      for (const CirclePose& cp :
-           circle_poses_from_conic(conic_from_ellipse(a.conic.ellipse), pose.radius_m)) {
-        if (cp.normal.dot(a.conic.normal_cam) > 1.0 - 1e-12) continue;
+      if (const auto cp = mirror_pose(a.conic, pose.radius_m)) {
         PatternPose other = a.conic;
-        other.centre_cam = cp.centre;
-        other.normal_cam = cp.normal;
+        other.centre_cam = cp->centre;
+        other.normal_cam = cp->normal;
         poses.push_back(other);
       }
     }

@@ -1051,6 +1051,13 @@ std::optional<Eigen::Matrix<double, 5, 1>> disc_image_params(const Eigen::Matrix
 }
 }  // namespace
 
+std::optional<CirclePose> mirror_pose(const PatternPose& p, double radius_m) {
+  for (const CirclePose& cp : circle_poses_from_conic(conic_from_ellipse(p.ellipse), radius_m)) {
+    if (cp.normal.dot(p.normal_cam) < 1.0 - 1e-12) return cp;
+  }
+  return std::nullopt;
+}
+
 PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> edges,
                              const CameraModel& camera, const PoseOptions& o) {
   if ((conic.status != PatternStatus::ok && conic.status != PatternStatus::ambiguous) ||
@@ -1205,11 +1212,9 @@ PatternPose refine_with_bars(const PatternPose& conic, std::span<const BarEdge> 
   };
   std::vector<Start> starts{{*axes0, c0, n0}};
   if (disc_prior) {
-    for (const CirclePose& cp :
-         circle_poses_from_conic(conic_from_ellipse(conic.ellipse), o.radius_m)) {
-      if (cp.normal.dot(n0) > std::cos(1e-6)) continue;  // the conic's own
-      const auto ax = pattern_axes_cam(cp.normal, o.up_cam);
-      if (ax) starts.push_back({*ax, cp.centre, cp.normal});
+    if (const auto cp = mirror_pose(conic, o.radius_m)) {
+      const auto ax = pattern_axes_cam(cp->normal, o.up_cam);
+      if (ax) starts.push_back({*ax, cp->centre, cp->normal});
     }
   }
   double best_cost = std::numeric_limits<double>::infinity(), other_cost = best_cost;

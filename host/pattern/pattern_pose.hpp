@@ -170,6 +170,10 @@ struct CirclePose {
 };
 std::vector<CirclePose> circle_poses_from_conic(const Eigen::Matrix3d& q, double r);
 Eigen::Matrix3d conic_from_ellipse(const Ellipse& e);
+// The other circle pose of a pose's disc ellipse (the seed's two-way
+// ambiguity, eq. 14): the one of circle_poses_from_conic whose normal is not
+// the pose's; empty when the ellipse has only one.
+std::optional<CirclePose> mirror_pose(const PatternPose& p, double radius_m);
 
 // Bar-code reader on the run records (mask = bar class; with bar_contrast > 0
 // runs lighter than min_bar_run_weight, the disc's, are skipped),
