@@ -1,7 +1,8 @@
 // Throughput of the five ways ceilnav processes a frame, on the same rendered
 // 640x480 frames of the demo corridor: the fast C++ path, the cycle-level C++
 // model, the Verilated RTL top, the OpenCV golden path and the host pose
-// maths. After the runs, main() prints the ratios and the targets of issue 4.
+// maths. After the runs, main() prints the ratios and the performance targets
+// of docs/performance.md.
 // See docs/performance.md.
 #include <benchmark/benchmark.h>
 
@@ -523,7 +524,7 @@ int main(int argc, char** argv) {
   print_ratio("cycle model pipeline / RTL", pipeline, rtl);
   print_ratio("fast path / RTL", fast, rtl);
   print_ratio("golden / RTL", golden, rtl);
-  std::printf("targets (issue 4):\n");
+  std::printf("targets (docs/performance.md):\n");
   print_target("fast path [Mpix/s]", fast, 100.0, true, "Mpix/s");
   print_target("cycle model / RTL",
                model && rtl && *rtl > 0.0 ? std::optional(*model / *rtl) : std::nullopt, 10.0, true,

@@ -66,14 +66,14 @@ target_link_libraries(cosim_ceilnav_top_test PRIVATE ceilnav_rtl_top ceilnav_str
 gtest_discover_tests(cosim_ceilnav_top_test TEST_PREFIX "cosim_ceilnav_top_test."
                      DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")
 
-# Malformed video streams (issue 5): one co-simulation per class, device level.
+# Malformed video streams: one co-simulation per class, device level.
 add_executable(cosim_malformed_test ${CMAKE_CURRENT_LIST_DIR}/cosim_malformed_test.cpp)
 target_link_libraries(cosim_malformed_test PRIVATE ceilnav_rtl_top ceilnav_stream ceilnav_regs
                                                    ceilnav_warnings GTest::gtest GTest::gtest_main)
 gtest_discover_tests(cosim_malformed_test TEST_PREFIX "cosim_malformed_test."
                      DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")
 
-# Register faults (issue 5): bus errors, read-only writes, LUT and config changes, double buffering.
+# Register faults: bus errors, read-only writes, LUT and config changes, double buffering.
 add_executable(cosim_register_faults_test ${CMAKE_CURRENT_LIST_DIR}/cosim_register_faults_test.cpp)
 target_link_libraries(cosim_register_faults_test PRIVATE ceilnav_rtl_top ceilnav_stream ceilnav_regs
                                                          ceilnav_warnings GTest::gtest

@@ -1,4 +1,4 @@
-// Malformed video streams at device level (issue 5): for each class a good
+// Malformed video streams at device level: for each class a good
 // frame, the malformed frame, then a good frame, with random tvalid gaps and
 // m_axis_runs back-pressure. Vceilnav_top and stream::CeilnavTop get the same
 // stimulus and every output port is compared after every edge; the registers

@@ -1,4 +1,4 @@
-// Register faults at device level (issue 5): bus errors, writes to read-only
+// Register faults at device level: bus errors, writes to read-only
 // registers, LUT writes during a frame, back-to-back configuration changes and
 // results held while the next frame runs. Vceilnav_top and stream::CeilnavTop
 // run in lockstep (TopCosim: every port compared after every edge), so each

@@ -1,4 +1,4 @@
-// Host and scene faults (issue 5, item 3): frames that the golden renderer
+// Host and scene faults: frames that the golden renderer
 // makes with a known pose, each of one fault class, through the Navigator
 // (the path of `ceilnav run`, fast backend). For every class: the documented
 // status (docs/scene_faults.md), no NaN or inf in any output, the pose against
@@ -20,7 +20,7 @@ namespace ceilnav::host {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-// docs/results.md, issue 2 bar (an RMS bar; here it bounds single good frames).
+// docs/results.md accuracy bar (an RMS bar; here it bounds single good frames).
 constexpr double kYawBarDeg = 0.02;
 constexpr double kOffsetBarM = 0.001;
 
