@@ -4,7 +4,7 @@
 find_program(YOSYS yosys REQUIRED)
 # ceilnav_top includes the generated ceilnav_regs.svh (tools/regmap_gen).
 add_test(NAME rtl.lint COMMAND ${PROJECT_SOURCE_DIR}/scripts/rtl_lint ${CEILNAV_GENERATED_DIR})
-set_tests_properties(rtl.lint PROPERTIES LABELS "rtl")
+set_tests_properties(rtl.lint PROPERTIES LABELS "unit;rtl")
 
 file(GLOB rtl_modules CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/rtl_model/*.sv)
 foreach(sv IN LISTS rtl_modules)
@@ -14,5 +14,5 @@ foreach(sv IN LISTS rtl_modules)
   endif()
   add_test(NAME rtl.synth.${module} COMMAND ${PROJECT_SOURCE_DIR}/scripts/rtl_synth ${module} both
                                             ${CEILNAV_GENERATED_DIR})
-  set_tests_properties(rtl.synth.${module} PROPERTIES LABELS "rtl" TIMEOUT 900)
+  set_tests_properties(rtl.synth.${module} PROPERTIES LABELS "slow;rtl" TIMEOUT 900)
 endforeach()

@@ -4,8 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <random>
@@ -519,17 +517,13 @@ TEST(RunScanner, HighWaterExactWithStalledConsumer) {
   EXPECT_EQ(rx.runs[0], golden_runs(f, {0, 1, 0xFFFF}).runs);
 }
 
-TEST(RunScanner, FastPathThroughput) {
+// The frame of the throughput benchmark (bench/block_bench.cpp, BM_RunScannerFastPath).
+TEST(RunScanner, FastPathEqualsGoldenOnARandomVgaFrame) {
   std::mt19937 rng(3);
   const LutFrame f = test::random_frame(rng, 640, 480);
   const RunScanConfig c{20, 1, 64};
-  const int frames = 50;
-  FrameRuns r;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int i = 0; i < frames; ++i) r = fast_runs(f, c);
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("run_scanner fast path: %.3f ns/pixel (640x480, %zu runs)\n",
-              s * 1e9 / (double(frames) * double(f.pixels())), r.runs.size());
+  const FrameRuns r = fast_runs(f, c);
+  EXPECT_GT(r.runs.size(), 100u);
   EXPECT_EQ(r.runs, golden_runs(f, c).runs);
 }
 
