@@ -1,6 +1,6 @@
 // Fuzz target: the scene YAML reader (host::load_camera_config) on arbitrary
-// file contents. OpenCV's FileStorage picks the YAML, XML or JSON parser from
-// the contents, so all three are reached.
+// file contents. The reader picks pugixml for XML and yaml-cpp for YAML and
+// JSON from the contents, so all three are reached.
 //
 // Invariants (docs/fuzzing.md):
 //  * the reader returns a config or throws host::ConfigError; any other

@@ -1,21 +1,22 @@
 #include "host/camera_config_io.hpp"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
+#include <charconv>
 #include <cmath>
-#include <csignal>
 #include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
+#include <optional>
 #include <sstream>
+#include <variant>
+#include <vector>
 
+#include <yaml-cpp/yaml.h>
 #include <opencv2/core.hpp>
+#include <pugixml.hpp>
 
 namespace ceilnav::host {
 namespace {
@@ -23,8 +24,6 @@ namespace {
 constexpr int kMaxImageSide = 2048;
 constexpr int kMaxMatrixSide = 16;  // camera_matrix 3x3, distortion_coefficients up to 1x14
 constexpr std::uintmax_t kMaxFileBytes = 1u << 20;
-constexpr int kParseTimeoutMs = 5000;  // a scene file parses in about a millisecond
-constexpr int kChildRefused = 3;       // exit status of the parse probe on a ConfigError
 
 [[noreturn]] void fail(const std::string& source, const std::string& key, const std::string& what) {
   std::ostringstream msg;
@@ -34,70 +33,204 @@ constexpr int kChildRefused = 3;       // exit status of the parse probe on a Co
   throw ConfigError(msg.str());
 }
 
-cv::FileNode require(const cv::FileStorage& fs, const std::string& source, const std::string& key) {
-  cv::FileNode node = fs[key];
-  if (node.empty() || node.isNone()) fail(source, key, "missing");
-  return node;
+// The reader does not hand the file to cv::FileStorage: OpenCV 4.6's
+// FileStorage parsers crash or loop for ever on some malformed files (found by
+// fuzz_scene_yaml, docs/fuzzing.md). The file is read in-process by yaml-cpp
+// (YAML and JSON, the FileStorage YAML subset: the "%YAML:1.0" directive, the
+// !!opencv-matrix tag) or pugixml (FileStorage XML) into a flat document of
+// top-level keys, each an integer, a real, a matrix or something else.
+
+struct Matrix {
+  int rows = 0;
+  int cols = 0;
+  std::vector<double> data;
+};
+struct Other {
+  std::string what;  // e.g. "a string", "a map without rows/cols/data"
+};
+using Value = std::variant<long long, double, Matrix, Other>;
+using Document = std::map<std::string, Value>;
+
+// An integer literal (optional sign, decimal digits), as FileStorage's isInt().
+std::optional<long long> parse_int(const std::string& text) {
+  long long v = 0;
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  if (first != last && *first == '+') ++first;
+  const auto [ptr, ec] = std::from_chars(first, last, v);
+  if (ec != std::errc() || ptr != last || first == last) return std::nullopt;
+  return v;
 }
 
-int read_int(const cv::FileStorage& fs, const std::string& source, const std::string& key) {
-  const cv::FileNode node = require(fs, source, key);
-  if (!node.isInt()) fail(source, key, "must be an integer");
-  return static_cast<int>(node);
+// A real literal (decimal or exponent form; YAML's .inf/.nan as well, so
+// that they are refused as non-finite rather than as text).
+std::optional<double> parse_real(const std::string& text) {
+  std::string t = text;
+  if (t == ".inf" || t == ".Inf" || t == "+.inf" || t == "+.Inf") return HUGE_VAL;
+  if (t == "-.inf" || t == "-.Inf") return -HUGE_VAL;
+  if (t == ".nan" || t == ".NaN") return std::nan("");
+  if (!t.empty() && t[0] == '+') t.erase(0, 1);
+  double v = 0.0;
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (ec != std::errc() || ptr != t.data() + t.size() || t.empty()) return std::nullopt;
+  return v;
 }
 
-double read_real(const cv::FileStorage& fs, const std::string& source, const std::string& key) {
-  const cv::FileNode node = require(fs, source, key);
-  if (!node.isInt() && !node.isReal()) fail(source, key, "must be a number");
-  const double value = static_cast<double>(node);
+Value scalar_value(const std::string& text) {
+  if (const auto i = parse_int(text)) return *i;
+  if (const auto r = parse_real(text)) return *r;
+  return Other{"text"};
+}
+
+// rows, cols and data (count = rows x cols, every element a number) of an
+// opencv-matrix; the header is checked before the data is stored, so a
+// corrupt size cannot ask for memory.
+Value matrix_value(const std::string& source, const std::string& key, const std::string& rows_text,
+                   const std::string& cols_text, const std::vector<std::string>& elements) {
+  const auto rows = parse_int(rows_text), cols = parse_int(cols_text);
+  if (!rows || !cols) fail(source, key, "rows and cols must be integers and data a sequence");
+  if (*rows < 1 || *rows > kMaxMatrixSide || *cols < 1 || *cols > kMaxMatrixSide) {
+    fail(source, key, "rows and cols must be in 1.." + std::to_string(kMaxMatrixSide));
+  }
+  const auto count = static_cast<size_t>(*rows * *cols);
+  if (elements.size() != count) {
+    fail(source, key,
+         "data has " + std::to_string(elements.size()) +
+             " elements, rows x cols = " + std::to_string(count));
+  }
+  Matrix m{static_cast<int>(*rows), static_cast<int>(*cols), {}};
+  for (const std::string& e : elements) {
+    const Value v = scalar_value(e);
+    if (const auto* i = std::get_if<long long>(&v)) {
+      m.data.push_back(static_cast<double>(*i));
+    } else if (const auto* r = std::get_if<double>(&v)) {
+      m.data.push_back(*r);
+    } else {
+      fail(source, key, "unreadable matrix: element '" + e + "' is not a number");
+    }
+  }
+  return m;
+}
+
+Value yaml_value(const std::string& source, const std::string& key, const YAML::Node& node) {
+  if (node.IsScalar()) {
+    // A quoted scalar ("3.0", tag "!") is text, as in FileStorage.
+    return node.Tag() == "!" ? Value{Other{"text"}} : scalar_value(node.Scalar());
+  }
+  if (node.IsMap()) {
+    const YAML::Node rows = node["rows"], cols = node["cols"], data = node["data"];
+    if (!rows || !cols || !data) return Other{"a map"};
+    if (!rows.IsScalar() || !cols.IsScalar() || !data.IsSequence()) {
+      fail(source, key, "rows and cols must be integers and data a sequence");
+    }
+    std::vector<std::string> elements;
+    for (const YAML::Node& e : data) {
+      if (!e.IsScalar()) fail(source, key, "unreadable matrix: data holds a non-scalar");
+      elements.push_back(e.Scalar());
+      if (elements.size() > size_t{kMaxMatrixSide} * kMaxMatrixSide) break;
+    }
+    return matrix_value(source, key, rows.Scalar(), cols.Scalar(), elements);
+  }
+  return Other{node.IsSequence() ? "a sequence" : "null"};
+}
+
+Document read_yaml(const std::string& source, std::string text) {
+  // FileStorage writes the directive as "%YAML:1.0", which is not YAML 1.2:
+  // blank it (the line count stays, for yaml-cpp's messages).
+  if (text.rfind("%YAML:", 0) == 0) text.replace(0, text.find('\n'), "");
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    fail(source, "", std::string("not a FileStorage YAML file: ") + e.what());
+  }
+  if (!root.IsMap()) fail(source, "", "top level is not a map of keys");
+  Document doc;
+  for (const auto& kv : root) {
+    if (!kv.first.IsScalar()) fail(source, "", "a key is not a plain name");
+    const std::string key = kv.first.Scalar();
+    doc.insert_or_assign(key, yaml_value(source, key, kv.second));
+  }
+  return doc;
+}
+
+Document read_xml(const std::string& source, const std::string& text) {
+  pugi::xml_document xml;
+  const pugi::xml_parse_result parsed = xml.load_buffer(text.data(), text.size());
+  if (!parsed) {
+    fail(source, "", std::string("not a FileStorage XML file: ") + parsed.description());
+  }
+  const pugi::xml_node root = xml.child("opencv_storage");
+  if (!root) fail(source, "", "XML without an <opencv_storage> element");
+  Document doc;
+  for (const pugi::xml_node& n : root.children()) {
+    if (n.type() != pugi::node_element) continue;
+    const std::string key = n.name();
+    const pugi::xml_node rows = n.child("rows"), cols = n.child("cols"), data = n.child("data");
+    if (rows && cols && data) {
+      std::istringstream words(data.text().get());
+      std::vector<std::string> elements;
+      for (std::string w; words >> w;) {
+        elements.push_back(w);
+        if (elements.size() > size_t{kMaxMatrixSide} * kMaxMatrixSide) break;
+      }
+      doc.insert_or_assign(
+          key, matrix_value(source, key, rows.text().get(), cols.text().get(), elements));
+    } else if (n.first_child().type() == pugi::node_element) {
+      doc.insert_or_assign(key, Value{Other{"a map"}});
+    } else {
+      std::istringstream words(n.text().get());
+      std::string word, extra;
+      words >> word >> extra;
+      doc.insert_or_assign(key, extra.empty() ? scalar_value(word) : Value{Other{"a sequence"}});
+    }
+  }
+  return doc;
+}
+
+const Value& require(const Document& doc, const std::string& source, const std::string& key) {
+  const auto it = doc.find(key);
+  if (it == doc.end()) fail(source, key, "missing");
+  return it->second;
+}
+
+int read_int(const Document& doc, const std::string& source, const std::string& key) {
+  const auto* v = std::get_if<long long>(&require(doc, source, key));
+  if (v == nullptr) fail(source, key, "must be an integer");
+  if (*v < INT32_MIN || *v > INT32_MAX) fail(source, key, "is out of the int range");
+  return static_cast<int>(*v);
+}
+
+double read_real(const Document& doc, const std::string& source, const std::string& key) {
+  const Value& v = require(doc, source, key);
+  double value = 0.0;
+  if (const auto* i = std::get_if<long long>(&v)) {
+    value = static_cast<double>(*i);
+  } else if (const auto* r = std::get_if<double>(&v)) {
+    value = *r;
+  } else {
+    fail(source, key, "must be a number");
+  }
   if (!std::isfinite(value)) fail(source, key, "must be finite");
   return value;
 }
 
-cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& source, const std::string& key) {
-  const cv::FileNode node = require(fs, source, key);
-  if (!node.isMap() || node["rows"].empty() || node["cols"].empty() || node["data"].empty()) {
-    fail(source, key, "must be an opencv-matrix (rows, cols, dt, data)");
+const Matrix& read_matrix(const Document& doc, const std::string& source, const std::string& key) {
+  const auto* m = std::get_if<Matrix>(&require(doc, source, key));
+  if (m == nullptr) fail(source, key, "must be an opencv-matrix (rows, cols, dt, data)");
+  for (double v : m->data) {
+    if (!std::isfinite(v)) fail(source, key, "has a non-finite element");
   }
-  // OpenCV allocates rows x cols before it compares them with the data: check
-  // the header first, so that a corrupt size cannot ask for gigabytes.
-  const cv::FileNode rows_node = node["rows"], cols_node = node["cols"], data = node["data"];
-  if (!rows_node.isInt() || !cols_node.isInt() || !data.isSeq()) {
-    fail(source, key, "rows and cols must be integers and data a sequence");
-  }
-  const int rows = static_cast<int>(rows_node), cols = static_cast<int>(cols_node);
-  if (rows < 1 || rows > kMaxMatrixSide || cols < 1 || cols > kMaxMatrixSide) {
-    fail(source, key, "rows and cols must be in 1.." + std::to_string(kMaxMatrixSide));
-  }
-  if (data.size() != static_cast<size_t>(rows) * static_cast<size_t>(cols)) {
-    fail(source, key,
-         "data has " + std::to_string(data.size()) +
-             " elements, rows x cols = " + std::to_string(rows * cols));
-  }
-  cv::Mat m;
-  try {
-    node >> m;
-  } catch (const std::exception& e) {
-    fail(source, key, std::string("unreadable matrix: ") + e.what());
-  }
-  if (m.empty() || m.channels() != 1) fail(source, key, "must be a non-empty 1-channel matrix");
-  cv::Mat m64;
-  m.convertTo(m64, CV_64F);
-  for (int r = 0; r < m64.rows; ++r) {
-    for (int c = 0; c < m64.cols; ++c) {
-      if (!std::isfinite(m64.at<double>(r, c))) fail(source, key, "has a non-finite element");
-    }
-  }
-  return m64;
+  return *m;
 }
 
-// Screens the file before OpenCV's parser sees it. OpenCV 4.6's FileStorage
-// YAML parser loops for ever on a document whose '---' marker line carries
-// content and is followed by certain lines ("%YAML:1.0", "--- a: 1", "i-",
-// "-"; found by fuzz_scene_yaml, docs/fuzzing.md). cv::FileStorage and
-// cv::calibrateCamera always write the marker alone on its line, so such a
-// file is refused. A scene file is a few hundred bytes: larger than 1 MB is
-// refused too (the parsers also recurse once per nesting level, unbounded).
+// Screens the file. The scene file must stay readable by cv::FileStorage
+// (BRIEF §5), whose YAML parser (OpenCV 4.6) loops for ever on a document
+// whose '---' marker line carries content and is followed by certain lines
+// ("%YAML:1.0", "--- a: 1", "i-", "-"; found by fuzz_scene_yaml,
+// docs/fuzzing.md). cv::FileStorage and cv::calibrateCamera always write the
+// marker alone on its line, so such a file is refused. A scene file is a few
+// hundred bytes: larger than 1 MB is refused too.
 void screen_text(std::ifstream& in, const std::string& source) {
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(source, ec);
@@ -155,30 +288,21 @@ void validate_camera_config(const CameraConfig& cfg, const std::string& source) 
 
 namespace {
 
-// Parses and checks the file (load_camera_config without the guards).
-CameraConfig parse_camera_config(const std::string& path) {
-  cv::FileStorage fs;
-  try {
-    fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_AUTO);
-  } catch (const std::exception& e) {
-    // cv::Exception, and std::length_error from OpenCV 4.6's YAML parser on
-    // some malformed keys (found by fuzz_scene_yaml, docs/fuzzing.md).
-    fail(path, "", std::string("not a FileStorage YAML file: ") + e.what());
-  }
-  if (!fs.isOpened()) fail(path, "", "cannot be parsed as FileStorage YAML");
-  if (!fs.root().isMap()) fail(path, "", "top level is not a map of keys");
-
+// Parses and checks the file's text.
+CameraConfig parse_camera_config(const std::string& path, const std::string& text) {
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  const Document doc = (first != std::string::npos && text[first] == '<') ? read_xml(path, text)
+                                                                          : read_yaml(path, text);
   CameraConfig cfg;
-  cfg.image_width = read_int(fs, path, "image_width");
-  cfg.image_height = read_int(fs, path, "image_height");
+  cfg.image_width = read_int(doc, path, "image_width");
+  cfg.image_height = read_int(doc, path, "image_height");
 
-  const cv::Mat k = read_matrix(fs, path, "camera_matrix");
+  const Matrix& k = read_matrix(doc, path, "camera_matrix");
   if (k.rows != 3 || k.cols != 3) fail(path, "camera_matrix", "must be 3x3");
-  for (int i = 0; i < 9; ++i)
-    cfg.camera_matrix[static_cast<size_t>(i)] = k.at<double>(i / 3, i % 3);
+  std::copy(k.data.begin(), k.data.end(), cfg.camera_matrix.begin());
 
-  const cv::Mat d = read_matrix(fs, path, "distortion_coefficients");
-  const int n = static_cast<int>(d.total());
+  const Matrix& d = read_matrix(doc, path, "distortion_coefficients");
+  const int n = d.rows * d.cols;
   if ((d.rows != 1 && d.cols != 1) || (n != 4 && n != 5 && n != 8 && n != 12 && n != 14)) {
     fail(path, "distortion_coefficients",
          "must be 1x5, 5x1, 1x4 or 4x1 (k1 k2 p1 p2 [k3]); 8, 12 or 14 only with the extra "
@@ -188,84 +312,22 @@ CameraConfig parse_camera_config(const std::string& path) {
   // 8, 12 or 14 coefficients; only the 5-term model is supported, so the
   // extra terms must be zero.
   for (int i = 5; i < n; ++i) {
-    if (d.at<double>(d.rows == 1 ? 0 : i, d.rows == 1 ? i : 0) != 0.0) {
+    if (d.data[static_cast<size_t>(i)] != 0.0) {
       fail(path, "distortion_coefficients",
            "has non-zero terms beyond k3 (rational/thin-prism/tilted models are not supported)");
     }
   }
   cfg.distortion_coefficients = {};
   for (int i = 0; i < std::min(n, 5); ++i) {
-    cfg.distortion_coefficients[static_cast<size_t>(i)] =
-        d.at<double>(d.rows == 1 ? 0 : i, d.rows == 1 ? i : 0);
+    cfg.distortion_coefficients[static_cast<size_t>(i)] = d.data[static_cast<size_t>(i)];
   }
 
-  cfg.camera_pitch_deg = read_real(fs, path, "camera_pitch_deg");
-  cfg.camera_height_m = read_real(fs, path, "camera_height_m");
-  cfg.ceiling_height_m = read_real(fs, path, "ceiling_height_m");
-  cfg.tape_width_m = read_real(fs, path, "tape_width_m");
+  cfg.camera_pitch_deg = read_real(doc, path, "camera_pitch_deg");
+  cfg.camera_height_m = read_real(doc, path, "camera_height_m");
+  cfg.ceiling_height_m = read_real(doc, path, "ceiling_height_m");
+  cfg.tape_width_m = read_real(doc, path, "tape_width_m");
   validate_camera_config(cfg, path);
   return cfg;
-}
-
-// OpenCV 4.6's FileStorage parsers crash (SIGSEGV) or loop for ever on some
-// malformed files (found by fuzz_scene_yaml, docs/fuzzing.md). The file is
-// therefore parsed once in a child process first; only when the child ends
-// normally (the file was read, or refused with an exception) is it parsed
-// again in this process. The parsers are deterministic: the second parse
-// takes the same path. Throws ConfigError when the child is killed by a
-// signal, exits with another status (a sanitizer's report) or has not
-// finished after kParseTimeoutMs.
-void probe_parse_in_child(const std::string& path) {
-  int fds[2];
-  if (pipe(fds) != 0) fail(path, "", "cannot start the parser process (pipe)");
-  const pid_t pid = fork();
-  if (pid < 0) {
-    close(fds[0]);
-    close(fds[1]);
-    fail(path, "", "cannot start the parser process (fork)");
-  }
-  if (pid == 0) {
-    // The child: no output (a crash report would only confuse), no exit
-    // handlers. Exit 0: the file was read; kChildRefused: it was refused.
-    close(fds[0]);
-    const int null_fd = open("/dev/null", O_WRONLY);
-    if (null_fd >= 0) dup2(null_fd, STDERR_FILENO);
-    int code = 0;
-    try {
-      (void)parse_camera_config(path);
-    } catch (...) {
-      code = kChildRefused;
-    }
-    _exit(code);
-  }
-  // The parent: the pipe's write end closes when the child ends.
-  close(fds[1]);
-  pollfd pfd{fds[0], POLLIN, 0};
-  int ready = 0;
-  do {
-    ready = poll(&pfd, 1, kParseTimeoutMs);
-  } while (ready < 0 && errno == EINTR);
-  close(fds[0]);
-  if (ready == 0) kill(pid, SIGKILL);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (ready == 0) {
-    fail(path, "",
-         "OpenCV's FileStorage parser did not finish within " +
-             std::to_string(kParseTimeoutMs / 1000) + " s on this file");
-  }
-  if (WIFSIGNALED(status)) {
-    fail(path, "",
-         "OpenCV's FileStorage parser crashed on this file (signal " +
-             std::to_string(WTERMSIG(status)) + ")");
-  }
-  // Any other exit status: a sanitizer reported the crash and exited.
-  if (!WIFEXITED(status) || (WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != kChildRefused)) {
-    fail(path, "",
-         "OpenCV's FileStorage parser failed on this file (exit status " +
-             std::to_string(WEXITSTATUS(status)) + ")");
-  }
 }
 
 }  // namespace
@@ -279,8 +341,10 @@ CameraConfig load_camera_config(const std::string& path) {
     if (probe.peek() == std::ifstream::traits_type::eof()) fail(path, "", "file is empty");
     screen_text(probe, path);
   }
-  probe_parse_in_child(path);
-  return parse_camera_config(path);
+  std::ifstream in(path, std::ios::binary);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (!in.good() && !in.eof()) fail(path, "", "cannot be read");
+  return parse_camera_config(path, text);
 }
 
 void save_camera_config(const CameraConfig& cfg, const std::string& path) {

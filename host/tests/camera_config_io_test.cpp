@@ -260,5 +260,75 @@ TEST_F(ConfigIoTest, SaveRejectsBadConfigAndUnwritablePath) {
   expect_config_error([&] { save_camera_config(CameraConfig{}, q); }, {q});
 }
 
+// The reader parses the file itself (yaml-cpp, pugixml), not through
+// cv::FileStorage: on every valid file of the fuzz corpus, in YAML, JSON and
+// XML, and on files written by cv::FileStorage in each format, it must read
+// exactly what cv::FileStorage reads.
+CameraConfig read_with_opencv(const std::string& p) {
+  cv::FileStorage in(p, cv::FileStorage::READ);
+  EXPECT_TRUE(in.isOpened()) << p;
+  CameraConfig c;
+  c.image_width = static_cast<int>(in["image_width"]);
+  c.image_height = static_cast<int>(in["image_height"]);
+  cv::Mat k, d;
+  in["camera_matrix"] >> k;
+  in["distortion_coefficients"] >> d;
+  k.convertTo(k, CV_64F);
+  d.convertTo(d, CV_64F);
+  for (int i = 0; i < 9; ++i) c.camera_matrix[static_cast<size_t>(i)] = k.at<double>(i / 3, i % 3);
+  c.distortion_coefficients = {};
+  for (int i = 0; i < std::min(5, static_cast<int>(d.total())); ++i) {
+    c.distortion_coefficients[static_cast<size_t>(i)] = d.at<double>(i);
+  }
+  c.camera_pitch_deg = static_cast<double>(in["camera_pitch_deg"]);
+  c.camera_height_m = static_cast<double>(in["camera_height_m"]);
+  c.ceiling_height_m = static_cast<double>(in["ceiling_height_m"]);
+  c.tape_width_m = static_cast<double>(in["tape_width_m"]);
+  return c;
+}
+
+void expect_same(const CameraConfig& a, const CameraConfig& b, const std::string& what) {
+  EXPECT_EQ(a.image_width, b.image_width) << what;
+  EXPECT_EQ(a.image_height, b.image_height) << what;
+  EXPECT_EQ(a.camera_matrix, b.camera_matrix) << what;
+  EXPECT_EQ(a.distortion_coefficients, b.distortion_coefficients) << what;
+  EXPECT_EQ(a.camera_pitch_deg, b.camera_pitch_deg) << what;
+  EXPECT_EQ(a.camera_height_m, b.camera_height_m) << what;
+  EXPECT_EQ(a.ceiling_height_m, b.ceiling_height_m) << what;
+  EXPECT_EQ(a.tape_width_m, b.tape_width_m) << what;
+}
+
+TEST_F(ConfigIoTest, ReadsWhatOpenCvReadsInYamlJsonAndXml) {
+  int files = 0;
+  for (const auto& e :
+       fs::directory_iterator(fs::path(CEILNAV_SOURCE_DIR) / "fuzz/corpus/scene_yaml")) {
+    if (e.path().filename().string().rfind("valid", 0) != 0) continue;
+    expect_same(load_camera_config(e.path().string()), read_with_opencv(e.path().string()),
+                e.path().string());
+    ++files;
+  }
+  EXPECT_GE(files, 5);
+  // Written by cv::FileStorage itself, one file per format, with values
+  // that print with many digits.
+  CameraConfig c = load_camera_config(write("v.yaml", yaml(valid_keys())));
+  c.camera_matrix[0] = 512.0 / 3.0;
+  c.distortion_coefficients[0] = -1e-7 / 3.0;
+  c.tape_width_m = 0.1 + 0.2;
+  for (const char* ext : {".yaml", ".json", ".xml"}) {
+    const std::string p = path(std::string("opencv") + ext);
+    {
+      cv::FileStorage out(p, cv::FileStorage::WRITE);
+      const cv::Mat k(3, 3, CV_64F, c.camera_matrix.data());
+      const cv::Mat d(1, 5, CV_64F, c.distortion_coefficients.data());
+      out << "image_width" << c.image_width << "image_height" << c.image_height;
+      out << "camera_matrix" << k << "distortion_coefficients" << d;
+      out << "camera_pitch_deg" << c.camera_pitch_deg << "camera_height_m" << c.camera_height_m;
+      out << "ceiling_height_m" << c.ceiling_height_m << "tape_width_m" << c.tape_width_m;
+    }
+    expect_same(load_camera_config(p), c, p);
+    expect_same(load_camera_config(p), read_with_opencv(p), p);
+  }
+}
+
 }  // namespace
 }  // namespace ceilnav::host
