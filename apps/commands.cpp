@@ -16,16 +16,16 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/atomic_file.hpp"
-#include "apps/default_scene.hpp"
-#include "apps/frame_io.hpp"
 #include "apps/overlay.hpp"
 #include "apps/progress.hpp"
 #include "apps/results_csv.hpp"
 #include "apps/rtl_backend.hpp"
+#include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/flow_height.hpp"
+#include "host/frame_io.hpp"
 #include "host/navigator.hpp"
 
 namespace ceilnav::app {
@@ -115,10 +115,10 @@ int run_demo(const DemoOptions& o) {
   if (o.frames < 2) throw std::runtime_error("--frames must be at least 2");
   const fs::path out = o.out_dir;
 
-  const host::CameraConfig camera = default_camera();
-  const golden::CeilingScene scene = default_corridor(camera);
-  golden::RenderParams params = default_render_params();
-  const std::vector<DrivePose> drive = default_drive(o.frames);
+  const host::CameraConfig camera = golden::default_camera();
+  const golden::CeilingScene scene = golden::default_corridor(camera);
+  golden::RenderParams params = golden::default_render_params();
+  const std::vector<golden::DrivePose> drive = golden::default_drive(o.frames);
 
   host::NavigatorOptions nav_opt;
   configure_backend(nav_opt, o.backend);
@@ -236,7 +236,7 @@ int run_demo(const DemoOptions& o) {
 
 int run_frames(const RunOptions& o) {
   const host::CameraConfig camera = host::load_camera_config(o.scene_file);
-  const std::vector<fs::path> frames = list_png_frames(o.frames_dir);
+  const std::vector<fs::path> frames = host::list_png_frames(o.frames_dir);
   check_writable(o.out_csv);
 
   host::NavigatorOptions nav_opt;
@@ -252,7 +252,7 @@ int run_frames(const RunOptions& o) {
   int ok = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (size_t i = 0; i < frames.size(); ++i) {
-    const cv::Mat grey = read_grey_frame(frames[i], camera.image_width, camera.image_height);
+    const cv::Mat grey = host::read_grey_frame(frames[i], camera.image_width, camera.image_height);
     const host::FrameOutcome r = nav.process(grey);
     write_results_row(csv.stream(), frames[i].filename().string(), r);
     if (frame_status(r) == "ok") ++ok;
@@ -292,7 +292,7 @@ SampledPose sample_pose(std::mt19937_64& rng, double pitch_min, double pitch_max
 }  // namespace
 
 host::CameraConfig scaled_camera(int width, int height, bool distortion) {
-  host::CameraConfig c = default_camera();
+  host::CameraConfig c = golden::default_camera();
   const double sx = width / 640.0, sy = height / 480.0;
   c.image_width = width;
   c.image_height = height;
@@ -311,14 +311,14 @@ int run_render(const RenderOptions& o) {
   host::validate_camera_config(camera, "--width/--height/--pitch-deg");
   // Everything goes into a staging folder, renamed into place at the end.
   OutputFolder folder(out);
-  const golden::CeilingScene scene =
-      o.random_poses ? golden::single_tape_scene(camera.tape_width_m) : default_corridor(camera);
-  golden::RenderParams params = default_render_params();
+  const golden::CeilingScene scene = o.random_poses ? golden::single_tape_scene(camera.tape_width_m)
+                                                    : golden::default_corridor(camera);
+  golden::RenderParams params = golden::default_render_params();
   if (o.noise_sigma >= 0) params.noise_sigma_grey = o.noise_sigma;
   if (o.blur_sigma >= 0) params.blur_sigma_px = o.blur_sigma;
 
   std::mt19937_64 rng(o.seed);
-  const std::vector<DrivePose> drive = default_drive(o.frames);
+  const std::vector<golden::DrivePose> drive = golden::default_drive(o.frames);
   std::vector<std::pair<std::string, golden::FrameTruth>> truth_rows;
   Progress progress("render", static_cast<size_t>(o.frames));
   for (int i = 0; i < o.frames; ++i) {
@@ -348,11 +348,12 @@ int run_accuracy(const AccuracyOptions& o) {
   if (o.pitch_min_deg <= 0 || o.pitch_max_deg > 90 || o.pitch_min_deg > o.pitch_max_deg) {
     throw std::runtime_error("--pitch-min/--pitch-max must satisfy 0 < min <= max <= 90");
   }
-  if (o.ceiling_height_m > 0 && o.ceiling_height_m <= default_camera().camera_height_m) {
+  if (o.ceiling_height_m > 0 && o.ceiling_height_m <= golden::default_camera().camera_height_m) {
     throw std::runtime_error("--ceiling-m must be above the camera height");
   }
   std::mt19937_64 rng(o.seed);
-  const double tape_width_m = o.tape_width_m > 0 ? o.tape_width_m : default_camera().tape_width_m;
+  const double tape_width_m =
+      o.tape_width_m > 0 ? o.tape_width_m : golden::default_camera().tape_width_m;
   const golden::CeilingScene scene = golden::single_tape_scene(tape_width_m);
   std::unique_ptr<AtomicFile> csv;
   if (!o.csv.empty()) {
@@ -371,7 +372,7 @@ int run_accuracy(const AccuracyOptions& o) {
     camera.camera_pitch_deg = s.pitch_deg;
     camera.tape_width_m = tape_width_m;
     if (o.ceiling_height_m > 0) camera.ceiling_height_m = o.ceiling_height_m;
-    golden::RenderParams params = default_render_params();
+    golden::RenderParams params = golden::default_render_params();
     if (o.tape_gain >= 0) params.tape_gain = o.tape_gain;
     if (o.background_grey >= 0) params.background_grey = o.background_grey;
     params.noise_sigma_grey = s.noise;

@@ -69,7 +69,7 @@ int run_accuracy(const AccuracyOptions& o);
 // demo's tvalid gaps (0.1) and run-stream back-pressure (0.3).
 host::DeviceOptions device_options(const std::string& backend);
 
-// The default camera (apps/default_scene.hpp) for another frame size: focal
+// The default camera (golden/default_scene.hpp) for another frame size: focal
 // lengths and principal point scaled from 640x480.
 host::CameraConfig scaled_camera(int width, int height, bool distortion);
 

@@ -10,10 +10,10 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/commands.hpp"
-#include "apps/frame_io.hpp"
 #include "apps/pattern_commands.hpp"
 #include "apps/profile.hpp"
 #include "host/camera_config_io.hpp"
+#include "host/frame_io.hpp"
 #include "stream/version.hpp"
 
 namespace {
@@ -296,7 +296,7 @@ int main(int argc, char** argv) {
   } catch (const ceilnav::host::ConfigError& e) {
     std::cerr << "ceilnav: scene error: " << e.what() << '\n';
     return 1;
-  } catch (const InputError& e) {
+  } catch (const ceilnav::host::InputError& e) {
     std::cerr << "ceilnav: input error: " << e.what() << '\n';
     return 1;
   } catch (const std::exception& e) {

@@ -19,13 +19,13 @@
 
 #include "apps/atomic_file.hpp"
 #include "apps/commands.hpp"
-#include "apps/default_scene.hpp"
-#include "apps/frame_io.hpp"
 #include "apps/plot.hpp"
+#include "golden/default_scene.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
 #include "host/device.hpp"
+#include "host/frame_io.hpp"
 #include "host/pattern/pattern_frame.hpp"
 #include "host/pattern/pattern_pose.hpp"
 #include "host/pattern/pattern_search.hpp"
@@ -451,7 +451,7 @@ int run_pattern_frames(const PatternOptions& o) {
   }
   const host::CameraConfig camera = host::load_camera_config(o.scene_file);
   const gp::PatternDatabase db = gp::load_pattern_database(o.database);
-  const std::vector<fs::path> frames = list_png_frames(o.frames_dir);
+  const std::vector<fs::path> frames = host::list_png_frames(o.frames_dir);
   make_dir(o.out_dir);
   const host::CameraModel model(camera);
   const gp::Radiometry radiometry;
@@ -465,7 +465,7 @@ int run_pattern_frames(const PatternOptions& o) {
   std::vector<FixRow> rows;
   cv::Mat last_overlay;
   for (const fs::path& f : frames) {
-    const cv::Mat grey = read_grey_frame(f, camera.image_width, camera.image_height);
+    const cv::Mat grey = host::read_grey_frame(f, camera.image_width, camera.image_height);
     const Analysis a = analyse(device, grey, radiometry, model, po);
     FixRow r = make_fix(a, db, po.up_cam, 0.0);
     r.frame = f.filename().string();
@@ -490,7 +490,7 @@ int run_pattern(const PatternOptions& o) {
   // (level, 1.1 m high) panned 70 deg away. It pans at 90 % of the seed's
   // maximum rate (eq. 34-37) until a code is seen, centres the disc, verifies.
   // The camera of the ceiling demo, level here (its pitch key is not used).
-  const host::CameraConfig camera = default_camera();
+  const host::CameraConfig camera = golden::default_camera();
   const host::CameraModel model(camera);
   gp::PatternDatabase db;
   db.patterns = {{7, 6.0, 0.0, 1.25, 180 * kDeg},

@@ -14,18 +14,18 @@
 
 #include "apps/atomic_file.hpp"
 #include "apps/commands.hpp"
-#include "apps/default_scene.hpp"
-#include "apps/frame_io.hpp"
 #include "apps/plot.hpp"
 #include "apps/progress.hpp"
 #include "apps/rtl_backend.hpp"
 #include "ceilnav/regs.hpp"
+#include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/auto_threshold.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
 #include "host/driver.hpp"
+#include "host/frame_io.hpp"
 #include "host/model_bus.hpp"
 #include "host/navigator.hpp"
 #include "host/tape_pose.hpp"
@@ -179,8 +179,9 @@ cv::Mat render_profile_frame(const ProfileScenario& s, const host::CameraConfig&
     const double y = kTapeSpacingM * ((k + 1) / 2) * (k % 2 == 1 ? 1.0 : -1.0);
     scene.tapes.push_back({corridor.x_start_m, y, corridor.x_end_m, y, camera.tape_width_m, 1.0});
   }
-  const std::vector<DrivePose> drive = default_drive(static_cast<int>(std::max<size_t>(count, 1)));
-  golden::RenderParams params = default_render_params();
+  const std::vector<golden::DrivePose> drive =
+      golden::default_drive(static_cast<int>(std::max<size_t>(count, 1)));
+  golden::RenderParams params = golden::default_render_params();
   params.noise_seed = s.seed * 7919u + index;
   return golden::render_frame(camera, scene, drive[index].pose, params);
 }
@@ -552,12 +553,12 @@ int run_profile(const ProfileOptions& o) {
   std::vector<fs::path> files;
   size_t count = 0;
   if (!o.frames_dir.empty()) {
-    files = list_png_frames(o.frames_dir);
+    files = host::list_png_frames(o.frames_dir);
     const fs::path scene =
         o.scene_file.empty() ? fs::path(o.frames_dir) / "scene.yaml" : fs::path(o.scene_file);
     if (o.scene_file.empty() && !fs::exists(scene)) {
-      throw InputError("no scene for the frames: give --scene or put scene.yaml in '" +
-                       o.frames_dir + "'");
+      throw host::InputError("no scene for the frames: give --scene or put scene.yaml in '" +
+                             o.frames_dir + "'");
     }
     camera = host::load_camera_config(scene.string());
     s.width = camera.image_width;
@@ -585,7 +586,7 @@ int run_profile(const ProfileOptions& o) {
   const auto frame_at = [&](size_t i) -> cv::Mat {
     if (i < cache.size() && !cache[i].empty()) return cache[i];
     cv::Mat m = files.empty() ? render_profile_frame(s, camera, i, count)
-                              : read_grey_frame(files[i], s.width, s.height);
+                              : host::read_grey_frame(files[i], s.width, s.height);
     const size_t keep = std::max<size_t>(static_cast<size_t>(o.sweep_frames), 1);
     if (i < keep) {
       if (cache.size() <= i) cache.resize(i + 1);

@@ -131,7 +131,7 @@ std::unique_ptr<host::SimBus> make_profile_bus(const std::string& backend,
                                                const host::SimBusOptions& options);
 
 // Renders frame `index` of the scenario: the demo drive down the corridor
-// (apps/default_scene.hpp) at the scenario's size with `tapes` parallel tapes.
+// (golden/default_scene.hpp) at the scenario's size with `tapes` parallel tapes.
 host::CameraConfig profile_camera(const ProfileScenario& s);
 cv::Mat render_profile_frame(const ProfileScenario& s, const host::CameraConfig& camera,
                              size_t index, size_t count);

@@ -21,7 +21,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "apps/default_scene.hpp"
+#include "golden/default_scene.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "golden/pipeline_ref.hpp"
 #include "golden/renderer.hpp"
@@ -86,11 +86,11 @@ std::vector<stream::VideoBeat> frame_beats(const cv::Mat& grey) {
 const Workload& workload() {
   static const Workload w = [] {
     Workload r;
-    r.camera = app::default_camera();
+    r.camera = golden::default_camera();
     r.camera_model = std::make_unique<host::CameraModel>(r.camera);
-    const golden::CeilingScene scene = app::default_corridor(r.camera);
-    golden::RenderParams params = app::default_render_params();
-    const std::vector<app::DrivePose> drive = app::default_drive(kFrames);
+    const golden::CeilingScene scene = golden::default_corridor(r.camera);
+    golden::RenderParams params = golden::default_render_params();
+    const std::vector<golden::DrivePose> drive = golden::default_drive(kFrames);
     for (int i = 0; i < kFrames; ++i) {
       params.noise_seed = 1000u + static_cast<uint64_t>(i);
       r.frames.push_back(
@@ -401,7 +401,7 @@ void BM_PatternHost(benchmark::State& state) {
   namespace gp = golden::pattern;
   namespace hp = host::pattern;
   const double d = static_cast<double>(state.range(0));
-  host::CameraConfig camera = app::default_camera();
+  host::CameraConfig camera = golden::default_camera();
   const host::CameraModel model(camera);
   const gp::Radiometry radiometry;
   const gp::PatternView view =

@@ -1,9 +1,9 @@
-// Fuzz target: the frame reader (app::read_grey_frame) on arbitrary file
+// Fuzz target: the frame reader (host::read_grey_frame) on arbitrary file
 // contents (PNG in the seed corpus; OpenCV picks the decoder from the
 // contents, so any format it knows is reached).
 //
 // Invariants (docs/fuzzing.md):
-//  * the reader returns an image or throws app::InputError; any other
+//  * the reader returns an image or throws host::InputError; any other
 //    exception escaping it is a bug;
 //  * a file whose PNG header (parsed here, independently) claims more than the
 //    device's 2048 x 2048 is refused for its size, whatever follows the header
@@ -27,10 +27,10 @@
 
 #include <opencv2/core.hpp>
 
-#include "apps/frame_io.hpp"
 #include "fuzz/check.hpp"
 #include "fuzz/temp_file.hpp"
 #include "host/auto_threshold.hpp"
+#include "host/frame_io.hpp"
 #include "stream/limits.hpp"
 #include "stream/pipeline.hpp"
 
@@ -52,8 +52,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool too_large = header_w > stream::kMaxWidth || header_h > stream::kMaxHeight;
   cv::Mat grey;
   try {
-    grey = app::read_grey_frame(path);
-  } catch (const app::InputError& e) {
+    grey = host::read_grey_frame(path);
+  } catch (const host::InputError& e) {
     if (std::getenv("CEILNAV_FUZZ_VERBOSE") != nullptr) std::printf("refused: %s\n", e.what());
     // Refused for its size, from the header, not after a failed decode.
     FUZZ_CHECK(!too_large || std::strstr(e.what(), "the device takes at most") != nullptr ||
@@ -73,7 +73,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       static_cast<uint32_t>(grey.cols) == header_w && static_cast<uint32_t>(grey.rows) == header_h,
       "decoded %dx%d, header %ux%u", grey.cols, grey.rows, header_w, header_h);
   try {
-    const cv::Mat same = app::read_grey_frame(path, grey.cols, grey.rows);
+    const cv::Mat same = host::read_grey_frame(path, grey.cols, grey.rows);
     FUZZ_CHECK(same.size() == grey.size() && cv::countNonZero(same != grey) == 0,
                "a second read returned other pixels");
   } catch (const std::exception& e) {
@@ -81,8 +81,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   bool refused = false;
   try {
-    (void)app::read_grey_frame(path, grey.cols + 1, grey.rows);
-  } catch (const app::InputError&) {
+    (void)host::read_grey_frame(path, grey.cols + 1, grey.rows);
+  } catch (const host::InputError&) {
     refused = true;
   }
   FUZZ_CHECK(refused, "a %dx%d frame was accepted as %dx%d", grey.cols, grey.rows, grey.cols + 1,

@@ -8,8 +8,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "apps/default_scene.hpp"
 #include "apps/rtl_backend.hpp"
+#include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "host/navigator.hpp"
 
@@ -24,21 +24,21 @@ std::vector<cv::Mat> frames_320x240() {
     EXPECT_FALSE(photo.empty()) << name << " (Debian package opencv-doc)";
     if (!photo.empty()) frames.push_back(photo(cv::Rect(0, 0, 320, 240)).clone());
   }
-  host::CameraConfig cam = default_camera();
+  host::CameraConfig cam = golden::default_camera();
   cam.image_width = 320;
   cam.image_height = 240;
   cam.camera_matrix = {260.0, 0.0, 160.6, 0.0, 259.2, 119.3, 0.0, 0.0, 1.0};
-  const auto scene = default_corridor(cam);
-  for (const auto& d : default_drive(30)) {
+  const auto scene = golden::default_corridor(cam);
+  for (const auto& d : golden::default_drive(30)) {
     if (frames.size() >= 6) break;
     if (d.pose.x_m < 8.0) continue;  // near the T-branch and the first gap
-    frames.push_back(golden::render_frame(cam, scene, d.pose, default_render_params()));
+    frames.push_back(golden::render_frame(cam, scene, d.pose, golden::default_render_params()));
   }
   return frames;
 }
 
 host::CameraConfig camera_320x240() {
-  host::CameraConfig cam = default_camera();
+  host::CameraConfig cam = golden::default_camera();
   cam.image_width = 320;
   cam.image_height = 240;
   cam.camera_matrix = {260.0, 0.0, 160.6, 0.0, 259.2, 119.3, 0.0, 0.0, 1.0};

@@ -24,7 +24,7 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kYawBarDeg = 0.02;
 constexpr double kOffsetBarM = 0.001;
 
-// The demo camera (apps/default_scene.cpp): 640x480, mild barrel distortion,
+// The demo camera (golden/default_scene.cpp): 640x480, mild barrel distortion,
 // ceiling 2.3 m above the camera.
 CameraConfig camera(double pitch_deg = 45.0) {
   CameraConfig c;

@@ -8,17 +8,17 @@
 #include "golden/scene.hpp"
 #include "host/camera_config.hpp"
 
-namespace ceilnav::app {
+namespace ceilnav::golden {
 
 host::CameraConfig default_camera();
-golden::CeilingScene default_corridor(const host::CameraConfig& camera);
-golden::RenderParams default_render_params();
+CeilingScene default_corridor(const host::CameraConfig& camera);
+RenderParams default_render_params();
 
 struct DrivePose {
-  golden::CameraPose pose;
+  CameraPose pose;
   double odometry_m = 0.0;  // distance travelled since the previous frame
 };
 // `frames` poses, `step_m` apart along X, lateral offset and yaw weaving.
 std::vector<DrivePose> default_drive(int frames, double step_m = 0.4);
 
-}  // namespace ceilnav::app
+}  // namespace ceilnav::golden

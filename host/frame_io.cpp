@@ -1,4 +1,4 @@
-#include "apps/frame_io.hpp"
+#include "host/frame_io.hpp"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +13,7 @@
 
 #include "stream/limits.hpp"
 
-namespace ceilnav::app {
+namespace ceilnav::host {
 namespace fs = std::filesystem;
 
 std::vector<fs::path> list_png_frames(const fs::path& folder) {
@@ -131,4 +131,4 @@ cv::Mat read_grey_frame(const fs::path& file, int expected_width, int expected_h
   return grey;
 }
 
-}  // namespace ceilnav::app
+}  // namespace ceilnav::host

@@ -8,7 +8,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace ceilnav::app {
+namespace ceilnav::host {
 
 struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -28,4 +28,4 @@ std::vector<std::filesystem::path> list_png_frames(const std::filesystem::path& 
 cv::Mat read_grey_frame(const std::filesystem::path& file, int expected_width = 0,
                         int expected_height = 0);
 
-}  // namespace ceilnav::app
+}  // namespace ceilnav::host

@@ -1,9 +1,9 @@
-#include "apps/default_scene.hpp"
+#include "golden/default_scene.hpp"
 
 #include <cmath>
 #include <numbers>
 
-namespace ceilnav::app {
+namespace ceilnav::golden {
 
 host::CameraConfig default_camera() {
   host::CameraConfig c;
@@ -18,14 +18,14 @@ host::CameraConfig default_camera() {
   return c;
 }
 
-golden::CeilingScene default_corridor(const host::CameraConfig& camera) {
-  golden::CorridorOptions o;
+CeilingScene default_corridor(const host::CameraConfig& camera) {
+  CorridorOptions o;
   o.second_tape = false;
-  return golden::corridor_scene(camera.tape_width_m, o);
+  return corridor_scene(camera.tape_width_m, o);
 }
 
-golden::RenderParams default_render_params() {
-  golden::RenderParams p;
+RenderParams default_render_params() {
+  RenderParams p;
   p.supersample = 8;
   p.blur_sigma_px = 0.7;
   p.noise_sigma_grey = 3.0;
@@ -56,4 +56,4 @@ std::vector<DrivePose> default_drive(int frames, double step_m) {
   return drive;
 }
 
-}  // namespace ceilnav::app
+}  // namespace ceilnav::golden
