@@ -6,27 +6,18 @@
 #include <filesystem>
 #include <fstream>
 
+#include "host/tests/temp_dir.hpp"
+
 namespace fs = std::filesystem;
 using ceilnav::app::AtomicFile;
 using ceilnav::app::OutputFolder;
 
 namespace {
 
-class TempDir {
+// One scratch folder per test.
+class TempDir : public ceilnav::test::TempDir {
  public:
-  TempDir() {
-    path_ = fs::temp_directory_path() /
-            ("ceilnav_atomic_file_" +
-             std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
+  TempDir() : ceilnav::test::TempDir("ceilnav_atomic_file") {}
 };
 
 }  // namespace

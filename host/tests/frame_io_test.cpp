@@ -10,6 +10,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "host/tests/temp_dir.hpp"
+
 namespace fs = std::filesystem;
 using ceilnav::host::InputError;
 using ceilnav::host::list_png_frames;
@@ -17,21 +19,10 @@ using ceilnav::host::read_grey_frame;
 
 namespace {
 
-class TempDir {
+// One scratch folder per test.
+class TempDir : public ceilnav::test::TempDir {
  public:
-  TempDir() {
-    path_ =
-        fs::temp_directory_path() /
-        ("ceilnav_frame_io_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
+  TempDir() : ceilnav::test::TempDir("ceilnav_frame_io") {}
 };
 
 std::string message_of(const std::function<void()>& f) {
