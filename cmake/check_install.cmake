@@ -14,7 +14,8 @@ function(run)
 endfunction()
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 foreach(f IN ITEMS lib/cmake/ceilnav/ceilnavConfig.cmake include/ceilnav/host/driver.hpp
-                   include/ceilnav/ceilnav/regs.hpp bin/ceilnav)
+                   include/ceilnav/ceilnav/regs.hpp include/ceilnav/ceilnav/ceilnav_regs.h
+                   bin/ceilnav)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "not installed: ${f}")
   endif()
