@@ -3,8 +3,9 @@
 // cascaded accumulators along the row (A1 += I, A2 += A1, A3 += A2) and down
 // the frame (at each row end F00 += A1, F01 += F00, F02 += F01, F10 += A2,
 // F11 += F10, F20 += A3) give the sums of I weighted by u = W - x and
-// v = H - y. After EOF a bit-serial unit (six serial x parallel multipliers
-// by the 12-bit W and H) forms the moments, grey pass then mask pass.
+// v = H - y. After EOF two bit-serial units, one per image (six serial x
+// parallel multipliers by the 12-bit W and H each), form the grey and the mask
+// moments in one pass over the widest register.
 // Cycle model: stream/moment_gen.{hpp,cpp}; spec: docs/blocks/moment_gen.md.
 
 module moment_gen (
@@ -57,17 +58,18 @@ module moment_gen (
   localparam int unsigned KR00 = 23, KR10 = 33, KR01 = 33, KR20 = 43, KR11 = 43, KR02 = 43;
   localparam int unsigned GreyPass = 51;  // widest grey register
   localparam int unsigned MaskPass = 43;
+  localparam int unsigned PassBits = GreyPass > MaskPass ? GreyPass : MaskPass;
 
   // Combine schedule, as the value of cnt_q before the edge (cnt_q = 0 after
   // the EOF edge): snapshot loads, then pass bit k of a register of width N
   // is read at k < N and written at 1 <= k <= N (one stream register between).
-  localparam int unsigned CntBits = 7;
-  localparam logic [CntBits-1:0] Load0 = 7'd1;  // F00 final after edge EOF+1
-  localparam logic [CntBits-1:0] Load1 = 7'd2;  // F10, F01
-  localparam logic [CntBits-1:0] Load2 = 7'd3;  // F20, F11, F02
-  localparam int unsigned GreyStart = 4;
-  localparam int unsigned MaskStart = GreyStart + GreyPass;  // shares the grey pass's last edge
-  localparam logic [CntBits-1:0] DoneCnt = CntBits'(MaskStart + MaskPass + 1);  // 99
+  // The grey and the mask pass run side by side, from the same edge.
+  localparam int unsigned CntBits = 6;
+  localparam logic [CntBits-1:0] Load0 = 6'd1;  // F00 final after edge EOF+1
+  localparam logic [CntBits-1:0] Load1 = 6'd2;  // F10, F01
+  localparam logic [CntBits-1:0] Load2 = 6'd3;  // F20, F11, F02
+  localparam int unsigned PassStart = 4;
+  localparam logic [CntBits-1:0] DoneCnt = CntBits'(PassStart + PassBits + 1);  // 56
 
   // ---------------------------------------------------------------------------
   // Stage 0: the pixel. row_start / first_row describe the pixel on the input.
@@ -249,13 +251,12 @@ module moment_gen (
     in_win = (c >= CntBits'(s)) && (c < CntBits'(s + n));
   endfunction
 
-  logic load0, load1, load2, mask_pass, ser_clr;
+  logic load0, load1, load2, ser_clr;
   assign load0     = busy_q & (cnt_q == Load0);
   assign load1     = busy_q & (cnt_q == Load1);
   assign load2     = busy_q & (cnt_q == Load2);
-  assign mask_pass = cnt_q >= CntBits'(MaskStart);
-  // Serial state starts each pass from 0 (carry 1 for subtractors).
-  assign ser_clr   = (cnt_q == CntBits'(GreyStart)) | (cnt_q == CntBits'(MaskStart));
+  // Serial state starts the pass from 0 (carry 1 for subtractors).
+  assign ser_clr   = cnt_q == CntBits'(PassStart);
 
   // ---------------------------------------------------------------------------
   // Combine shift registers (snapshot of F, then m), LSB out, MSB in.
@@ -272,23 +273,24 @@ module moment_gen (
   logic [KR11-1:0] kr11_q;
   logic [KR02-1:0] kr02_q;
 
-  // Serial result bits m_ab (bit k-1 during pass bit k), below.
-  logic m00_s, m10_s, m01_s, m20_s, m11_s, m02_s;
+  // Serial result bits m_ab (bit k-1 during pass bit k) of each image, below:
+  // {m02, m11, m20, m01, m10, m00}.
+  logic [5:0] gm_s, km_s;
 
   // Shift enables: pass bits 0 .. N of the register's own pass.
   logic [5:0] g_sh, k_sh;
-  assign g_sh[0] = busy_q & in_win(cnt_q, GreyStart, GR00 + 1);
-  assign g_sh[1] = busy_q & in_win(cnt_q, GreyStart, GR10 + 1);
-  assign g_sh[2] = busy_q & in_win(cnt_q, GreyStart, GR01 + 1);
-  assign g_sh[3] = busy_q & in_win(cnt_q, GreyStart, GR20 + 1);
-  assign g_sh[4] = busy_q & in_win(cnt_q, GreyStart, GR11 + 1);
-  assign g_sh[5] = busy_q & in_win(cnt_q, GreyStart, GR02 + 1);
-  assign k_sh[0] = busy_q & in_win(cnt_q, MaskStart, KR00 + 1);
-  assign k_sh[1] = busy_q & in_win(cnt_q, MaskStart, KR10 + 1);
-  assign k_sh[2] = busy_q & in_win(cnt_q, MaskStart, KR01 + 1);
-  assign k_sh[3] = busy_q & in_win(cnt_q, MaskStart, KR20 + 1);
-  assign k_sh[4] = busy_q & in_win(cnt_q, MaskStart, KR11 + 1);
-  assign k_sh[5] = busy_q & in_win(cnt_q, MaskStart, KR02 + 1);
+  assign g_sh[0] = busy_q & in_win(cnt_q, PassStart, GR00 + 1);
+  assign g_sh[1] = busy_q & in_win(cnt_q, PassStart, GR10 + 1);
+  assign g_sh[2] = busy_q & in_win(cnt_q, PassStart, GR01 + 1);
+  assign g_sh[3] = busy_q & in_win(cnt_q, PassStart, GR20 + 1);
+  assign g_sh[4] = busy_q & in_win(cnt_q, PassStart, GR11 + 1);
+  assign g_sh[5] = busy_q & in_win(cnt_q, PassStart, GR02 + 1);
+  assign k_sh[0] = busy_q & in_win(cnt_q, PassStart, KR00 + 1);
+  assign k_sh[1] = busy_q & in_win(cnt_q, PassStart, KR10 + 1);
+  assign k_sh[2] = busy_q & in_win(cnt_q, PassStart, KR01 + 1);
+  assign k_sh[3] = busy_q & in_win(cnt_q, PassStart, KR20 + 1);
+  assign k_sh[4] = busy_q & in_win(cnt_q, PassStart, KR11 + 1);
+  assign k_sh[5] = busy_q & in_win(cnt_q, PassStart, KR02 + 1);
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
@@ -296,9 +298,9 @@ module moment_gen (
       kr00_q <= '0;
     end else begin
       if (load0)         gr00_q <= gf00_q;
-      else if (g_sh[0])  gr00_q <= {m00_s, gr00_q[GR00-1:1]};
+      else if (g_sh[0])  gr00_q <= {gm_s[0], gr00_q[GR00-1:1]};
       if (load0)         kr00_q <= kf00_q;
-      else if (k_sh[0])  kr00_q <= {m00_s, kr00_q[KR00-1:1]};
+      else if (k_sh[0])  kr00_q <= {km_s[0], kr00_q[KR00-1:1]};
     end
   end
 
@@ -310,13 +312,13 @@ module moment_gen (
       kr01_q <= '0;
     end else begin
       if (load1)         gr10_q <= gf10_q;
-      else if (g_sh[1])  gr10_q <= {m10_s, gr10_q[GR10-1:1]};
+      else if (g_sh[1])  gr10_q <= {gm_s[1], gr10_q[GR10-1:1]};
       if (load1)         gr01_q <= gf01_q;
-      else if (g_sh[2])  gr01_q <= {m01_s, gr01_q[GR01-1:1]};
+      else if (g_sh[2])  gr01_q <= {gm_s[2], gr01_q[GR01-1:1]};
       if (load1)         kr10_q <= kf10_q;
-      else if (k_sh[1])  kr10_q <= {m10_s, kr10_q[KR10-1:1]};
+      else if (k_sh[1])  kr10_q <= {km_s[1], kr10_q[KR10-1:1]};
       if (load1)         kr01_q <= kf01_q;
-      else if (k_sh[2])  kr01_q <= {m01_s, kr01_q[KR01-1:1]};
+      else if (k_sh[2])  kr01_q <= {km_s[2], kr01_q[KR01-1:1]};
     end
   end
 
@@ -330,124 +332,133 @@ module moment_gen (
       kr02_q <= '0;
     end else begin
       if (load2)         gr20_q <= GR20'(gf20_q);
-      else if (g_sh[3])  gr20_q <= {m20_s, gr20_q[GR20-1:1]};
+      else if (g_sh[3])  gr20_q <= {gm_s[3], gr20_q[GR20-1:1]};
       if (load2)         gr11_q <= gf11_q;
-      else if (g_sh[4])  gr11_q <= {m11_s, gr11_q[GR11-1:1]};
+      else if (g_sh[4])  gr11_q <= {gm_s[4], gr11_q[GR11-1:1]};
       if (load2)         gr02_q <= GR02'(gf02_q);
-      else if (g_sh[5])  gr02_q <= {m02_s, gr02_q[GR02-1:1]};
+      else if (g_sh[5])  gr02_q <= {gm_s[5], gr02_q[GR02-1:1]};
       if (load2)         kr20_q <= KR20'(kf20_q);
-      else if (k_sh[3])  kr20_q <= {m20_s, kr20_q[KR20-1:1]};
+      else if (k_sh[3])  kr20_q <= {km_s[3], kr20_q[KR20-1:1]};
       if (load2)         kr11_q <= kf11_q;
-      else if (k_sh[4])  kr11_q <= {m11_s, kr11_q[KR11-1:1]};
+      else if (k_sh[4])  kr11_q <= {km_s[4], kr11_q[KR11-1:1]};
       if (load2)         kr02_q <= KR02'(kf02_q);
-      else if (k_sh[5])  kr02_q <= {m02_s, kr02_q[KR02-1:1]};
+      else if (k_sh[5])  kr02_q <= {km_s[5], kr02_q[KR02-1:1]};
     end
   end
 
-  // Operand streams F_ab, bit k of the pass in flight: the register's LSB
-  // while k < N, then 0 (F < 2^N). Registered: one pass bit behind cnt_q.
-  logic [5:0] f_d, f_q;  // {F02, F11, F20, F01, F10, F00}
-  always_comb begin
-    if (mask_pass) begin
-      f_d[0] = kr00_q[0] & in_win(cnt_q, MaskStart, KR00);
-      f_d[1] = kr10_q[0] & in_win(cnt_q, MaskStart, KR10);
-      f_d[2] = kr01_q[0] & in_win(cnt_q, MaskStart, KR01);
-      f_d[3] = kr20_q[0] & in_win(cnt_q, MaskStart, KR20);
-      f_d[4] = kr11_q[0] & in_win(cnt_q, MaskStart, KR11);
-      f_d[5] = kr02_q[0] & in_win(cnt_q, MaskStart, KR02);
-    end else begin
-      f_d[0] = gr00_q[0] & in_win(cnt_q, GreyStart, GR00);
-      f_d[1] = gr10_q[0] & in_win(cnt_q, GreyStart, GR10);
-      f_d[2] = gr01_q[0] & in_win(cnt_q, GreyStart, GR01);
-      f_d[3] = gr20_q[0] & in_win(cnt_q, GreyStart, GR20);
-      f_d[4] = gr11_q[0] & in_win(cnt_q, GreyStart, GR11);
-      f_d[5] = gr02_q[0] & in_win(cnt_q, GreyStart, GR02);
-    end
-  end
+  // Operand streams F_ab of each image, bit k of the pass: the register's LSB
+  // while k < N, then 0 (F < 2^N). Registered in the datapath: one pass bit
+  // behind cnt_q.
+  logic [5:0] gf_d, kf_d;  // {F02, F11, F20, F01, F10, F00}
+  assign gf_d[0] = gr00_q[0] & in_win(cnt_q, PassStart, GR00);
+  assign gf_d[1] = gr10_q[0] & in_win(cnt_q, PassStart, GR10);
+  assign gf_d[2] = gr01_q[0] & in_win(cnt_q, PassStart, GR01);
+  assign gf_d[3] = gr20_q[0] & in_win(cnt_q, PassStart, GR20);
+  assign gf_d[4] = gr11_q[0] & in_win(cnt_q, PassStart, GR11);
+  assign gf_d[5] = gr02_q[0] & in_win(cnt_q, PassStart, GR02);
+  assign kf_d[0] = kr00_q[0] & in_win(cnt_q, PassStart, KR00);
+  assign kf_d[1] = kr10_q[0] & in_win(cnt_q, PassStart, KR10);
+  assign kf_d[2] = kr01_q[0] & in_win(cnt_q, PassStart, KR01);
+  assign kf_d[3] = kr20_q[0] & in_win(cnt_q, PassStart, KR20);
+  assign kf_d[4] = kr11_q[0] & in_win(cnt_q, PassStart, KR11);
+  assign kf_d[5] = kr02_q[0] & in_win(cnt_q, PassStart, KR02);
 
-  // Serial datapath state has no reset: ser_clr initialises it before use.
-  logic f10_dly_q, f01_dly_q, f20_dly_q, f02_dly_q;  // 2 F_ab: the stream one bit later
-  always_ff @(posedge clk_i) begin
-    f_q <= f_d;
-    if (ser_clr) begin
-      f10_dly_q <= 1'b0;
-      f01_dly_q <= 1'b0;
-      f20_dly_q <= 1'b0;
-      f02_dly_q <= 1'b0;
-    end else begin
-      f10_dly_q <= f_q[1];
-      f01_dly_q <= f_q[2];
-      f20_dly_q <= f_q[3];
-      f02_dly_q <= f_q[5];
-    end
-  end
+  // One serial datapath per image (0: grey, 1: mask), identical.
+  for (genvar img = 0; img < 2; img++) begin : g_img
+    logic [5:0] f_d, f_q;
+    logic       m00_s, m10_s, m01_s, m20_s, m11_s, m02_s;
+    assign f_d = (img == 0) ? gf_d : kf_d;
 
-  // Six serial x parallel multipliers, product bit k out with operand bit k:
-  // carry-save partial sums s, c of the part of the product above bit k.
-  localparam int unsigned Muls = 6;
-  // split_var: the bits of these vectors feed each other (no loop).
-  logic [Muls-1:0]         mul_x /* verilator split_var */, mul_p /* verilator split_var */;
-  logic [Muls*DimBits-1:0] mul_k;
-
-  for (genvar i = 0; i < Muls; i++) begin : g_mul
-    logic [DimBits-1:0] k, pp, s, c_q, sum, carry;
-    logic [DimBits-2:0] s_q;
-    assign k     = mul_k[i*DimBits +: DimBits];
-    assign pp    = k & {DimBits{mul_x[i]}};
-    assign s     = {1'b0, s_q};
-    assign sum   = s ^ c_q ^ pp;
-    assign carry = (s & c_q) | (s & pp) | (c_q & pp);
+    // Serial datapath state has no reset: ser_clr initialises it before use.
+    logic f10_dly_q, f01_dly_q, f20_dly_q, f02_dly_q;  // 2 F_ab: the stream one bit later
     always_ff @(posedge clk_i) begin
+      f_q <= f_d;
       if (ser_clr) begin
-        s_q <= '0;
-        c_q <= '0;
+        f10_dly_q <= 1'b0;
+        f01_dly_q <= 1'b0;
+        f20_dly_q <= 1'b0;
+        f02_dly_q <= 1'b0;
       end else begin
-        s_q <= sum[DimBits-1:1];
-        c_q <= carry;
+        f10_dly_q <= f_q[1];
+        f01_dly_q <= f_q[2];
+        f20_dly_q <= f_q[3];
+        f02_dly_q <= f_q[5];
       end
     end
-    assign mul_p[i] = sum[0];
-  end
 
-  // Ten serial adders / subtractors (a - b = a + ~b + 1).
-  localparam int unsigned Adds = 10;
-  localparam logic [Adds-1:0] IsSub = 10'b10_1110_1110;  // adders 0, 4, 8 add; the rest subtract
-  logic [Adds-1:0] add_a /* verilator split_var */, add_b /* verilator split_var */;
-  logic [Adds-1:0] add_s /* verilator split_var */, add_c_q;
-  for (genvar i = 0; i < Adds; i++) begin : g_add
-    assign add_s[i] = add_a[i] ^ add_b[i] ^ IsSub[i] ^ add_c_q[i];
-  end
-  always_ff @(posedge clk_i) begin
-    if (ser_clr) add_c_q <= IsSub;
-    else add_c_q <= (add_a & (add_b ^ IsSub)) | (add_a & add_c_q) | ((add_b ^ IsSub) & add_c_q);
-  end
+    // Six serial x parallel multipliers, product bit k out with operand bit k:
+    // carry-save partial sums s, c of the part of the product above bit k.
+    localparam int unsigned Muls = 6;
+    // split_var: the bits of these vectors feed each other (no loop).
+    logic [Muls-1:0]         mul_x /* verilator split_var */, mul_p /* verilator split_var */;
+    logic [Muls*DimBits-1:0] mul_k;
 
-  // m10 = W F00 - F10            m01 = H F00 - F01
-  // m20 = W (m10 - F10) + 2 F20 - F10 = W (W F00 - 2 F10) + (2 F20 - F10)
-  // m02 = H (H F00 - 2 F01) + (2 F02 - F01)
-  // m11 = W m01 + (F11 - H F10)
-  logic p_wf00, p_hf00, d1, d2, e20, e02, g11;
-  assign mul_k = {h_q, w_q, h_q, w_q, h_q, w_q};
-  assign mul_x[0] = f_q[0];          // W F00
-  assign mul_x[1] = f_q[0];          // H F00
-  assign mul_x[2] = d1;              // W (W F00 - 2 F10)
-  assign mul_x[3] = d2;              // H (H F00 - 2 F01)
-  assign mul_x[4] = m01_s;           // W m01
-  assign mul_x[5] = f_q[1];          // H F10
-  assign p_wf00 = mul_p[0];
-  assign p_hf00 = mul_p[1];
+    for (genvar i = 0; i < Muls; i++) begin : g_mul
+      logic [DimBits-1:0] k, pp, s, c_q, sum, carry;
+      logic [DimBits-2:0] s_q;
+      assign k     = mul_k[i*DimBits +: DimBits];
+      assign pp    = k & {DimBits{mul_x[i]}};
+      assign s     = {1'b0, s_q};
+      assign sum   = s ^ c_q ^ pp;
+      assign carry = (s & c_q) | (s & pp) | (c_q & pp);
+      always_ff @(posedge clk_i) begin
+        if (ser_clr) begin
+          s_q <= '0;
+          c_q <= '0;
+        end else begin
+          s_q <= sum[DimBits-1:1];
+          c_q <= carry;
+        end
+      end
+      assign mul_p[i] = sum[0];
+    end
 
-  assign add_a[1] = p_wf00;   assign add_b[1] = f_q[1];      assign m10_s = add_s[1];
-  assign add_a[2] = p_wf00;   assign add_b[2] = f10_dly_q;   assign d1    = add_s[2];
-  assign add_a[3] = f20_dly_q; assign add_b[3] = f_q[1];     assign e20   = add_s[3];
-  assign add_a[0] = mul_p[2]; assign add_b[0] = e20;         assign m20_s = add_s[0];
-  assign add_a[5] = p_hf00;   assign add_b[5] = f_q[2];      assign m01_s = add_s[5];
-  assign add_a[6] = p_hf00;   assign add_b[6] = f01_dly_q;   assign d2    = add_s[6];
-  assign add_a[7] = f02_dly_q; assign add_b[7] = f_q[2];     assign e02   = add_s[7];
-  assign add_a[4] = mul_p[3]; assign add_b[4] = e02;         assign m02_s = add_s[4];
-  assign add_a[9] = f_q[4];   assign add_b[9] = mul_p[5];    assign g11   = add_s[9];
-  assign add_a[8] = mul_p[4]; assign add_b[8] = g11;         assign m11_s = add_s[8];
-  assign m00_s = f_q[0];
+    // Ten serial adders / subtractors (a - b = a + ~b + 1).
+    localparam int unsigned Adds = 10;
+    localparam logic [Adds-1:0] IsSub = 10'b10_1110_1110;  // adders 0, 4, 8 add; the rest subtract
+    logic [Adds-1:0] add_a /* verilator split_var */, add_b /* verilator split_var */;
+    logic [Adds-1:0] add_s /* verilator split_var */, add_c_q;
+    for (genvar i = 0; i < Adds; i++) begin : g_add
+      assign add_s[i] = add_a[i] ^ add_b[i] ^ IsSub[i] ^ add_c_q[i];
+    end
+    always_ff @(posedge clk_i) begin
+      if (ser_clr) add_c_q <= IsSub;
+      else add_c_q <= (add_a & (add_b ^ IsSub)) | (add_a & add_c_q) | ((add_b ^ IsSub) & add_c_q);
+    end
+
+    // m10 = W F00 - F10            m01 = H F00 - F01
+    // m20 = W (m10 - F10) + 2 F20 - F10 = W (W F00 - 2 F10) + (2 F20 - F10)
+    // m02 = H (H F00 - 2 F01) + (2 F02 - F01)
+    // m11 = W m01 + (F11 - H F10)
+    logic p_wf00, p_hf00, d1, d2, e20, e02, g11;
+    assign mul_k = {h_q, w_q, h_q, w_q, h_q, w_q};
+    assign mul_x[0] = f_q[0];          // W F00
+    assign mul_x[1] = f_q[0];          // H F00
+    assign mul_x[2] = d1;              // W (W F00 - 2 F10)
+    assign mul_x[3] = d2;              // H (H F00 - 2 F01)
+    assign mul_x[4] = m01_s;           // W m01
+    assign mul_x[5] = f_q[1];          // H F10
+    assign p_wf00 = mul_p[0];
+    assign p_hf00 = mul_p[1];
+
+    assign add_a[1] = p_wf00;   assign add_b[1] = f_q[1];      assign m10_s = add_s[1];
+    assign add_a[2] = p_wf00;   assign add_b[2] = f10_dly_q;   assign d1    = add_s[2];
+    assign add_a[3] = f20_dly_q; assign add_b[3] = f_q[1];     assign e20   = add_s[3];
+    assign add_a[0] = mul_p[2]; assign add_b[0] = e20;         assign m20_s = add_s[0];
+    assign add_a[5] = p_hf00;   assign add_b[5] = f_q[2];      assign m01_s = add_s[5];
+    assign add_a[6] = p_hf00;   assign add_b[6] = f01_dly_q;   assign d2    = add_s[6];
+    assign add_a[7] = f02_dly_q; assign add_b[7] = f_q[2];     assign e02   = add_s[7];
+    assign add_a[4] = mul_p[3]; assign add_b[4] = e02;         assign m02_s = add_s[4];
+    assign add_a[9] = f_q[4];   assign add_b[9] = mul_p[5];    assign g11   = add_s[9];
+    assign add_a[8] = mul_p[4]; assign add_b[8] = g11;         assign m11_s = add_s[8];
+    assign m00_s = f_q[0];
+
+    if (img == 0) begin : g_grey
+      assign gm_s = {m02_s, m11_s, m20_s, m01_s, m10_s, m00_s};
+    end else begin : g_mask
+      assign km_s = {m02_s, m11_s, m20_s, m01_s, m10_s, m00_s};
+    end
+  end
 
   // ---------------------------------------------------------------------------
   // Outputs: all registered; the moments load from the shift registers on

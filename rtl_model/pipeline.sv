@@ -19,6 +19,9 @@
 // switches on edge T+1 (Pipeline::kHistSwitchCycles after the video EOF).
 module pipeline #(
   parameter int unsigned RunFifoDepth = 1024,  // run FIFO entries, power of two, >= 8
+  // 0: no class_moments and no published copy of its results; res_class_mom_o = 0
+  // (C++: Pipeline(depth, /*has_class_moments=*/false)).
+  parameter bit          HasClassMoments = 1'b1,
   localparam int unsigned CoordBits = 11,
   localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1
 ) (
@@ -251,48 +254,6 @@ module pipeline #(
     .overrun_count_o(mom_overrun)
   );
 
-  // class_moments: the moments of the class masks 1..3 in the class window.
-  localparam int unsigned Classes = 3;
-  localparam int unsigned C00 = 2 * CoordBits + 1, C10 = 3 * CoordBits - 1;
-  localparam int unsigned C20 = 4 * CoordBits - 1, C11 = 4 * CoordBits - 2;
-  localparam int unsigned ClassResBits = Classes * (C00 + 2 * C10 + 2 * C20 + C11);
-  logic                      cls_done;
-  logic [Classes*C00-1:0]    c00;
-  logic [Classes*C10-1:0]    c10, c01;
-  logic [Classes*C20-1:0]    c20, c02;
-  logic [Classes*C11-1:0]    c11;
-
-  class_moments #(
-    .CoordBits (CoordBits),
-    .NumClasses(Classes)
-  ) u_class_moments (
-    .clk_i,
-    .rst_ni,
-    .s_lut_valid_i (lut_valid),
-    .s_lut_grey_i  (lut_grey),
-    .s_lut_x_i     (lut_x),
-    .s_lut_y_i     (lut_y),
-    .s_lut_sof_i   (lut_sof),
-    .s_lut_eol_i   (lut_eol),
-    .s_lut_eof_i   (lut_eof),
-    .s_lut_abort_i (lut_abort),
-    .s_lut_remap_i (lut_remap),
-    .s_lut_mask_i  (lut_mask),
-    .s_lut_class_i (lut_class),
-    .win_x0_i      (cfg_lut_q[CfgWin + 0*WinBits +: WinBits]),
-    .win_x1_i      (cfg_lut_q[CfgWin + 1*WinBits +: WinBits]),
-    .win_y0_i      (cfg_lut_q[CfgWin + 2*WinBits +: WinBits]),
-    .win_y1_i      (cfg_lut_q[CfgWin + 3*WinBits +: WinBits]),
-    .eof_keep_i    (mom_accept),
-    .done_o        (cls_done),
-    .m00_o         (c00),
-    .m10_o         (c10),
-    .m01_o         (c01),
-    .m20_o         (c20),
-    .m11_o         (c11),
-    .m02_o         (c02)
-  );
-
   logic [31:0] rs_emitted, rs_row_limit, rs_overflow, rs_high_water;
   logic        unused_rs_done;
 
@@ -337,7 +298,6 @@ module pipeline #(
   logic                   runs_pend_q;  // ... it did on the last edge: stage the run stats
   logic [MetaBits-1:0]    staged_meta_q, res_meta_q;
   logic [RunStatBits-1:0] staged_runs_q, res_runs_q;
-  logic [ClassResBits-1:0] res_class_q;
   logic                   res_valid_q;
 
   assign accept = lut_valid & lut_eof & mom_accept;
@@ -353,7 +313,6 @@ module pipeline #(
       staged_runs_q  <= '0;
       res_meta_q     <= '0;
       res_runs_q     <= '0;
-      res_class_q    <= '0;
       res_valid_q    <= 1'b0;
     end else begin
       if (video_sof) begin
@@ -378,7 +337,6 @@ module pipeline #(
       if (mom_done_next) begin
         res_meta_q  <= staged_meta_q;
         res_runs_q  <= staged_runs_q;
-        res_class_q <= {c02, c11, c20, c01, c10, c00};
         res_valid_q <= 1'b1;
       end
     end
@@ -396,27 +354,86 @@ module pipeline #(
   assign res_fifo_high_water_o        = res_runs_q[3*32 +: 32];
   assign res_mom_grey_o = {64'(g02), 64'(g11), 64'(g20), 64'(g01), 64'(g10), 64'(g00)};
   assign res_mom_mask_o = {64'(k02), 64'(k11), 64'(k20), 64'(k01), 64'(k10), 64'(k00)};
-  // res_class_q = {c02, c11, c20, c01, c10, c00}, each Classes x width.
-  localparam int unsigned OffC00 = 0;
-  localparam int unsigned OffC10 = OffC00 + Classes * C00;
-  localparam int unsigned OffC01 = OffC10 + Classes * C10;
-  localparam int unsigned OffC20 = OffC01 + Classes * C10;
-  localparam int unsigned OffC11 = OffC20 + Classes * C20;
-  localparam int unsigned OffC02 = OffC11 + Classes * C11;
-  for (genvar c = 0; c < Classes; c++) begin : g_res_class
-    assign res_class_mom_o[64*(6*c+0) +: 64] = 64'(res_class_q[OffC00 + c*C00 +: C00]);
-    assign res_class_mom_o[64*(6*c+1) +: 64] = 64'(res_class_q[OffC10 + c*C10 +: C10]);
-    assign res_class_mom_o[64*(6*c+2) +: 64] = 64'(res_class_q[OffC01 + c*C10 +: C10]);
-    assign res_class_mom_o[64*(6*c+3) +: 64] = 64'(res_class_q[OffC20 + c*C20 +: C20]);
-    assign res_class_mom_o[64*(6*c+4) +: 64] = 64'(res_class_q[OffC11 + c*C11 +: C11]);
-    assign res_class_mom_o[64*(6*c+5) +: 64] = 64'(res_class_q[OffC02 + c*C20 +: C20]);
+  // class_moments (HasClassMoments): the block and its published copy
+  // res_class_q, loaded on the publication edge like the rest of the set.
+  if (HasClassMoments) begin : g_class
+    // The moments of the class masks 1..3 in the class window.
+    localparam int unsigned Classes = 3;
+    localparam int unsigned C00 = 2 * CoordBits + 1, C10 = 3 * CoordBits - 1;
+    localparam int unsigned C20 = 4 * CoordBits - 1, C11 = 4 * CoordBits - 2;
+    localparam int unsigned ClassResBits = Classes * (C00 + 2 * C10 + 2 * C20 + C11);
+    logic                      cls_done;
+    logic [Classes*C00-1:0]    c00;
+    logic [Classes*C10-1:0]    c10, c01;
+    logic [Classes*C20-1:0]    c20, c02;
+    logic [Classes*C11-1:0]    c11;
+
+    class_moments #(
+      .CoordBits (CoordBits),
+      .NumClasses(Classes)
+    ) u_class_moments (
+      .clk_i,
+      .rst_ni,
+      .s_lut_valid_i (lut_valid),
+      .s_lut_grey_i  (lut_grey),
+      .s_lut_x_i     (lut_x),
+      .s_lut_y_i     (lut_y),
+      .s_lut_sof_i   (lut_sof),
+      .s_lut_eol_i   (lut_eol),
+      .s_lut_eof_i   (lut_eof),
+      .s_lut_abort_i (lut_abort),
+      .s_lut_remap_i (lut_remap),
+      .s_lut_mask_i  (lut_mask),
+      .s_lut_class_i (lut_class),
+      .win_x0_i      (cfg_lut_q[CfgWin + 0*WinBits +: WinBits]),
+      .win_x1_i      (cfg_lut_q[CfgWin + 1*WinBits +: WinBits]),
+      .win_y0_i      (cfg_lut_q[CfgWin + 2*WinBits +: WinBits]),
+      .win_y1_i      (cfg_lut_q[CfgWin + 3*WinBits +: WinBits]),
+      .eof_keep_i    (mom_accept),
+      .done_o        (cls_done),
+      .m00_o         (c00),
+      .m10_o         (c10),
+      .m01_o         (c01),
+      .m20_o         (c20),
+      .m11_o         (c11),
+      .m02_o         (c02)
+    );
+
+    logic [ClassResBits-1:0] res_class_q;
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni)            res_class_q <= '0;
+      else if (mom_done_next) res_class_q <= {c02, c11, c20, c01, c10, c00};
+    end
+
+    // res_class_q = {c02, c11, c20, c01, c10, c00}, each Classes x width.
+    localparam int unsigned OffC00 = 0;
+    localparam int unsigned OffC10 = OffC00 + Classes * C00;
+    localparam int unsigned OffC01 = OffC10 + Classes * C10;
+    localparam int unsigned OffC20 = OffC01 + Classes * C10;
+    localparam int unsigned OffC11 = OffC20 + Classes * C20;
+    localparam int unsigned OffC02 = OffC11 + Classes * C11;
+    for (genvar c = 0; c < Classes; c++) begin : g_res_class
+      assign res_class_mom_o[64*(6*c+0) +: 64] = 64'(res_class_q[OffC00 + c*C00 +: C00]);
+      assign res_class_mom_o[64*(6*c+1) +: 64] = 64'(res_class_q[OffC10 + c*C10 +: C10]);
+      assign res_class_mom_o[64*(6*c+2) +: 64] = 64'(res_class_q[OffC01 + c*C10 +: C10]);
+      assign res_class_mom_o[64*(6*c+3) +: 64] = 64'(res_class_q[OffC20 + c*C20 +: C20]);
+      assign res_class_mom_o[64*(6*c+4) +: 64] = 64'(res_class_q[OffC11 + c*C11 +: C11]);
+      assign res_class_mom_o[64*(6*c+5) +: 64] = 64'(res_class_q[OffC02 + c*C20 +: C20]);
+    end
+    logic unused_cls;
+    assign unused_cls = cls_done;
+  end else begin : g_no_class
+    assign res_class_mom_o = '0;
+    // The class index and the class window are not used in this configuration.
+    logic unused_cls;
+    assign unused_cls = ^{lut_class, cfg_lut_q[CfgWin +: 4*WinBits]};
   end
+
   assign errors_o                     = fc_errors;
   assign frames_overrun_o             = mom_overrun;
 
   logic unused;
-  assign unused = ^{unused_fc_tready, unused_mom_busy, unused_hist_done, unused_rs_done,
-                    cls_done};
+  assign unused = ^{unused_fc_tready, unused_mom_busy, unused_hist_done, unused_rs_done};
 
 `ifndef SYNTHESIS
   // Every publication has a staged set, and a set is never overwritten before

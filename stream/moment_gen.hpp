@@ -107,13 +107,16 @@ class MomentGen {
  public:
   // Edges from the EOF pixel's edge e to the edge that raises done():
   // the last frame accumulator settles at e+3 (the cascade is skewed one edge
-  // per stage), the snapshots load at e+2..e+4, the grey pass shifts at
-  // e+5 .. e+5+kGreyPassBits, the mask pass (its first edge shared with the
-  // grey pass's last) for kMaskPassBits+1 edges, then the results load.
+  // per stage), the snapshots load at e+2..e+4, the grey and the mask pass
+  // (one serial unit each, side by side) shift at e+5 .. e+5+kPassBits, then
+  // the results load.
   static constexpr int kSkewCycles = 4;
-  static constexpr int kCombineCycles =
-      kSkewCycles + 1 + moment_gen_widths::kGreyPassBits + moment_gen_widths::kMaskPassBits + 1;
-  static_assert(kCombineCycles == 100);
+  static constexpr int kPassBits =
+      moment_gen_widths::kGreyPassBits > moment_gen_widths::kMaskPassBits
+          ? moment_gen_widths::kGreyPassBits
+          : moment_gen_widths::kMaskPassBits;
+  static constexpr int kCombineCycles = kSkewCycles + 1 + kPassBits + 1;
+  static_assert(kCombineCycles == 57);
 
   // Fast path state: plain per-frame sums (software only, no hardware meaning).
   struct FrameSums {

@@ -4,7 +4,8 @@
 
 namespace ceilnav::stream {
 
-Pipeline::Pipeline(uint32_t run_fifo_depth) : runs_(run_fifo_depth) {
+Pipeline::Pipeline(uint32_t run_fifo_depth, bool has_class_moments)
+    : runs_(run_fifo_depth), has_class_moments_(has_class_moments) {
   set_config(shadow_);
   lut_.commit_at_frame_start();
   build_tables();
@@ -60,7 +61,7 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, boo
   mom_.clock(lut_out);
   const bool mom_accept =
       lut_out.pix.valid && lut_out.pix.eof && mom_.overrun_count() == overruns_before;
-  cls_.clock(lut_out, cfg_lut_.class_window, mom_accept);
+  if (has_class_moments_) cls_.clock(lut_out, cfg_lut_.class_window, mom_accept);
   runs_.set_active_config(cfg_lut_.runs);
   runs_.clock(lut_out, m_axis_runs_tready);
 
@@ -74,7 +75,7 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, boo
     results_q_.valid = true;
     results_q_.histogram = staged_hist_q_;
     results_q_.moments = mom_.results();
-    results_q_.class_moments = class_results;
+    if (has_class_moments_) results_q_.class_moments = class_results;
     results_q_.run_stats = staged_runs_q_;
     results_q_.errors = staged_meta_q_.errors;
     results_q_.cycles_in_frame = staged_meta_q_.cycles_in_frame;
@@ -168,8 +169,10 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
     }
     MomentGen::accumulate_row(sums, static_cast<uint32_t>(y), remap_row_.data(), mask_row_.data(),
                               w);
-    ClassMoments::accumulate_row(class_sums, static_cast<uint32_t>(y), class_row_.data(), w,
-                                 cfg_lut_.class_window);
+    if (has_class_moments_) {
+      ClassMoments::accumulate_row(class_sums, static_cast<uint32_t>(y), class_row_.data(), w,
+                                   cfg_lut_.class_window);
+    }
     const size_t first_new = runs.size();
     RunScanner::scan_row(cfg_lut_.runs, static_cast<uint16_t>(y), remap_row_.data(),
                          mask_row_.data(), w, runs, stats.runs_dropped_row_limit);

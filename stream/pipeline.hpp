@@ -40,7 +40,13 @@ class Pipeline {
   // frame_check (1) + thresh_lut (1) + moment_gen combine (kCombineCycles).
   static constexpr int kEofToFrameDoneCycles = 2 + MomentGen::kCombineCycles;
 
-  explicit Pipeline(uint32_t run_fifo_depth = RunScanner::kDefaultFifoDepth);
+  // has_class_moments = false is the RTL's HasClassMoments = 0: no
+  // class_moments block, results().class_moments all zero; every other output
+  // is the same as with true.
+  explicit Pipeline(uint32_t run_fifo_depth = RunScanner::kDefaultFifoDepth,
+                    bool has_class_moments = true);
+
+  bool has_class_moments() const { return has_class_moments_; }
 
   // Asynchronous active-low reset of every register (not of the LUT BRAM nor
   // of the shadow configuration, which the host owns).
@@ -118,6 +124,7 @@ class Pipeline {
   MomentGen mom_;
   ClassMoments cls_;
   RunScanner runs_;
+  bool has_class_moments_;
 
   StageConfig cfg_fc_{};   // latched with the SOF beat by frame_check
   StageConfig cfg_lut_{};  // latched when the SOF pixel enters thresh_lut

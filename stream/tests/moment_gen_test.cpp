@@ -358,7 +358,7 @@ TEST(MomentGen, OverrunBoundaryIsCombineCycles) {
 
   // Back to back, zero blanking: l pixels per frame pass, l - 1 do not.
   for (const auto& [w, h, expect_all] :
-       std::vector<std::tuple<uint16_t, uint16_t, bool>>{{10, 10, true}, {9, 11, false}}) {
+       std::vector<std::tuple<uint16_t, uint16_t, bool>>{{3, 19, true}, {7, 8, false}}) {
     ASSERT_EQ(size_t{w} * h == l, expect_all);
     MomentGen g;
     std::vector<LutBeat> b;

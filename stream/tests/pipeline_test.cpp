@@ -389,6 +389,72 @@ TEST(Pipeline, FrameDoneLatencyAndPulse) {
   EXPECT_FALSE(fresh.results().valid);
 }
 
+// HasClassMoments = 0 (has_class_moments = false): clocked in lockstep with a
+// full pipeline on the same beats and tready, every output equal on every
+// cycle except results().class_moments, which stays zero; the fast path too.
+TEST(Pipeline, WithoutClassMomentsEverythingElseIsEqual) {
+  std::mt19937 rng(48);
+  const ClassMomentResults zero{};
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{2, 2}, {37, 23}, {160, 120}}) {
+    PipelineConfig cfg = random_config(rng, w, h);
+    cfg.class_window = ClassWindow{};  // the whole frame: the full pipeline has class moments
+    Pipeline full(64);
+    Pipeline tape(64, false);
+    EXPECT_TRUE(full.has_class_moments());
+    EXPECT_FALSE(tape.has_class_moments());
+    full.set_config(cfg);
+    tape.set_config(cfg);
+    std::vector<VideoBeat> beats;
+    std::uniform_int_distribution<int> blank(0, 80);
+    for (int f = 0; f < 6; ++f) {
+      test::append_frame(beats, test::blob_image(rng, w, h), rng, f % 2 == 0 ? 0.0 : 0.2);
+      test::append_gaps(beats, blank(rng));
+    }
+    beats.resize(beats.size() + 4 * Pipeline::kEofToFrameDoneCycles + 4096);
+    std::bernoulli_distribution tready(0.7);
+    std::uniform_int_distribution<int> bin(0, 255);
+    int done = 0;
+    bool class_seen = false;
+    for (size_t i = 0; i < beats.size(); ++i) {
+      const bool rdy = tready(rng);
+      const auto b = static_cast<uint8_t>(bin(rng));
+      full.clock(beats[i], rdy, true, b);
+      tape.clock(beats[i], rdy, true, b);
+      ASSERT_EQ(tape.frame_done(), full.frame_done()) << i;
+      ASSERT_EQ(tape.m_axis_runs(), full.m_axis_runs()) << i;
+      ASSERT_EQ(tape.hist_rd_data(), full.hist_rd_data()) << i;
+      ASSERT_EQ(tape.error_counters(), full.error_counters()) << i;
+      ASSERT_EQ(tape.frames_overrun(), full.frames_overrun()) << i;
+      ASSERT_EQ(tape.run_trailers_lost(), full.run_trailers_lost()) << i;
+      ASSERT_EQ(tape.run_fifo_occupancy(), full.run_fifo_occupancy()) << i;
+      ASSERT_EQ(tape.results().class_moments, zero) << i;
+      FrameResults expected = full.results();
+      class_seen = class_seen || expected.class_moments != zero;
+      expected.class_moments = zero;
+      ASSERT_EQ(tape.results(), expected) << i;
+      done += full.frame_done() ? 1 : 0;
+    }
+    EXPECT_EQ(static_cast<uint32_t>(done) + full.frames_overrun(), 6u) << w << "x" << h;
+    EXPECT_GT(done, 0) << w << "x" << h;
+    EXPECT_TRUE(class_seen) << w << "x" << h << ": the full pipeline had class moments";
+
+    const cv::Mat img = test::blob_image(rng, w, h);
+    Pipeline full_fast(64);
+    Pipeline tape_fast(64, false);
+    full_fast.set_config(cfg);
+    tape_fast.set_config(cfg);
+    std::vector<RunRecord> full_runs, tape_runs;
+    FrameResults expected =
+        full_fast.process_frame(img.ptr<uint8_t>(0), img.cols, img.rows, img.step[0], &full_runs);
+    const FrameResults got =
+        tape_fast.process_frame(img.ptr<uint8_t>(0), img.cols, img.rows, img.step[0], &tape_runs);
+    EXPECT_EQ(got.class_moments, zero);
+    expected.class_moments = zero;
+    EXPECT_EQ(got, expected);
+    EXPECT_EQ(tape_runs, full_runs);
+  }
+}
+
 TEST(Pipeline, FastPathRejectsWrongGeometryAndBusyPipeline) {
   PipelineConfig cfg;
   cfg.width = 8;
