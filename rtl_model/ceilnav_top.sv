@@ -3,7 +3,14 @@
 // interrupt, cycle counters, video gate and the run FIFO register window.
 // Cycle-exact twin of stream/ceilnav_top.cpp (stream::CeilnavTop); timing in
 // docs/blocks/ceilnav_top.md, registers in docs/registers.md.
-module ceilnav_top (
+//
+// The configuration (docs/registers.md "Configurations", from regmap.json) is
+// a parameter per optional block: HasClassMoments = 0 is the `tape` device,
+// without class_moments; its registers (CLASS_WIN_*, CLASS_MOM_*) then answer
+// SLVERR like unmapped addresses.
+module ceilnav_top #(
+  parameter bit HasClassMoments = 1'b1
+) (
   input  logic         clk_i,
   input  logic         rst_ni,
 
@@ -120,7 +127,8 @@ module ceilnav_top (
   assign pass      = s_axis_video_tvalid_i & (s_axis_video_tuser_i ? enable_q : gate_open_q);
 
   pipeline #(
-    .RunFifoDepth(RunFifoDepth)
+    .RunFifoDepth   (RunFifoDepth),
+    .HasClassMoments(HasClassMoments)
   ) u_pipeline (
     .clk_i,
     .rst_ni                      (dp_rst_n),
@@ -212,9 +220,10 @@ module ceilnav_top (
   localparam int unsigned ClassMomWords = CEILNAV_CLASS_MOM_LO_COUNT;
   logic [ClassMomWords-1:0] sel_class_lo, sel_class_hi;
   for (genvar i = 0; i < ClassMomWords; i++) begin : g_class_sel
-    assign sel_class_lo[i] =
+    // Absent block (HasClassMoments = 0): no word selects, SLVERR.
+    assign sel_class_lo[i] = HasClassMoments &
         rd_sel_q[widx(elem(CEILNAV_CLASS_MOM_LO_OFFSET, i, CEILNAV_CLASS_MOM_LO_STRIDE))];
-    assign sel_class_hi[i] =
+    assign sel_class_hi[i] = HasClassMoments &
         rd_sel_q[widx(elem(CEILNAV_CLASS_MOM_HI_OFFSET, i, CEILNAV_CLASS_MOM_HI_STRIDE))];
   end
 
@@ -278,14 +287,14 @@ module ceilnav_top (
       rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_HIST_SOURCE_OFFSET)],
           put(32'(hist_src_q), CEILNAV_HIST_SOURCE_REMAP_LSB, CEILNAV_HIST_SOURCE_REMAP_WIDTH));
       rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_HIST_SOURCE_OFFSET)];
-      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CLASS_WIN_X_OFFSET)],
+      rd_value = rd_value | pick(HasClassMoments & rd_sel_q[widx(CEILNAV_CLASS_WIN_X_OFFSET)],
           put(32'(win_x0_q), CEILNAV_CLASS_WIN_X_X0_LSB, CEILNAV_CLASS_WIN_X_X0_WIDTH) |
           put(32'(win_x1_q), CEILNAV_CLASS_WIN_X_X1_LSB, CEILNAV_CLASS_WIN_X_X1_WIDTH));
-      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CLASS_WIN_X_OFFSET)];
-      rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_CLASS_WIN_Y_OFFSET)],
+      rd_ok = rd_ok | (HasClassMoments & rd_sel_q[widx(CEILNAV_CLASS_WIN_X_OFFSET)]);
+      rd_value = rd_value | pick(HasClassMoments & rd_sel_q[widx(CEILNAV_CLASS_WIN_Y_OFFSET)],
           put(32'(win_y0_q), CEILNAV_CLASS_WIN_Y_Y0_LSB, CEILNAV_CLASS_WIN_Y_Y0_WIDTH) |
           put(32'(win_y1_q), CEILNAV_CLASS_WIN_Y_Y1_LSB, CEILNAV_CLASS_WIN_Y_Y1_WIDTH));
-      rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_CLASS_WIN_Y_OFFSET)];
+      rd_ok = rd_ok | (HasClassMoments & rd_sel_q[widx(CEILNAV_CLASS_WIN_Y_OFFSET)]);
       rd_value = rd_value | pick(rd_sel_q[widx(CEILNAV_LUT_INDEX_OFFSET)],
           put(32'(lut_index_q), CEILNAV_LUT_INDEX_VALUE_LSB, CEILNAV_LUT_INDEX_VALUE_WIDTH));
       rd_ok = rd_ok | rd_sel_q[widx(CEILNAV_LUT_INDEX_OFFSET)];
@@ -446,8 +455,9 @@ module ceilnav_top (
         CEILNAV_INTR_ENABLE_OFFSET, CEILNAV_WIDTH_OFFSET, CEILNAV_HEIGHT_OFFSET,
         CEILNAV_BACKGROUND_LEVEL_OFFSET, CEILNAV_MIN_RUN_LENGTH_OFFSET,
         CEILNAV_MAX_RUNS_PER_ROW_OFFSET, CEILNAV_HIST_SOURCE_OFFSET,
-        CEILNAV_CLASS_WIN_X_OFFSET, CEILNAV_CLASS_WIN_Y_OFFSET,
         CEILNAV_LUT_INDEX_OFFSET: ;
+        CEILNAV_CLASS_WIN_X_OFFSET, CEILNAV_CLASS_WIN_Y_OFFSET:
+          wr_err = ~HasClassMoments;
         default: wr_err = 1'b1;  // no register, misaligned, or no writable field
       endcase
       if (s_axil_wstrb_i != 4'b1111) begin

@@ -29,8 +29,10 @@ bool error_counters_differ(const FrameErrorCounters& a, const FrameErrorCounters
 
 }  // namespace
 
-CeilnavTop::CeilnavTop(uint32_t run_fifo_depth)
-    : run_fifo_depth_(run_fifo_depth), pipeline_(run_fifo_depth) {
+CeilnavTop::CeilnavTop(uint32_t run_fifo_depth, const regs::Config& config)
+    : run_fifo_depth_(run_fifo_depth),
+      config_(config),
+      pipeline_(run_fifo_depth, config.has_class_moments) {
   reset();
 }
 
@@ -239,7 +241,9 @@ uint8_t CeilnavTop::write_register(uint32_t addr, uint32_t data, uint8_t strb, u
                                    bool& hist_index_written, bool& soft_reset) {
   const uint32_t a = addr & regs::kAddrMask;
   const regs::Register* reg = (a % 4 == 0) ? regs::find(a) : nullptr;
-  if (reg == nullptr || strb != 0xF || reg->write_mask() == 0) return kSlvErr;
+  if (reg == nullptr || !config_.has(*reg) || strb != 0xF || reg->write_mask() == 0) {
+    return kSlvErr;
+  }
   namespace r = regs;
   bool config_changed = false;
   switch (a) {
@@ -321,7 +325,7 @@ uint32_t CeilnavTop::read_register(uint32_t addr, uint8_t& resp) const {
   resp = kOkay;
   const uint32_t a = addr & regs::kAddrMask;
   const regs::Register* reg = (a % 4 == 0) ? regs::find(a) : nullptr;
-  if (reg == nullptr) {
+  if (reg == nullptr || !config_.has(*reg)) {
     resp = kSlvErr;
     return 0;
   }

@@ -29,7 +29,11 @@ class CeilnavTop {
   static constexpr uint32_t kIntrRunOverflow = regs::intr_state::kRunOverflow.mask();
   static constexpr uint32_t kIntrFrameError = regs::intr_state::kFrameError.mask();
 
-  explicit CeilnavTop(uint32_t run_fifo_depth = regs::kRunFifoDepth);
+  // `config`: the device's build-time configuration (regs::kConfigTape,
+  // regs::kConfigFull, ...): the optional blocks it has. A register of an
+  // absent block answers SLVERR, as in the RTL built with the same parameters.
+  explicit CeilnavTop(uint32_t run_fifo_depth = regs::kRunFifoDepth,
+                      const regs::Config& config = regs::kConfigFull);
 
   // Asynchronous active-low reset (rst_ni) of every register, the register
   // file included. LUT contents (BRAM) are kept; the active bank becomes 0.
@@ -49,6 +53,7 @@ class CeilnavTop {
   const Pipeline& pipeline() const { return pipeline_; }
   uint32_t cycle() const { return cycle_q_; }  // edges since reset, wrapping
   uint32_t run_fifo_depth() const { return run_fifo_depth_; }
+  const regs::Config& config() const { return config_; }
 
  private:
   // Value and response of a read of `addr`, from the current (pre-edge) state.
@@ -62,6 +67,7 @@ class CeilnavTop {
   void reset_datapath();
 
   uint32_t run_fifo_depth_;
+  regs::Config config_;
   Pipeline pipeline_;
 
   // Register file.

@@ -46,6 +46,57 @@ add_dependencies(ceilnav_rtl_top ceilnav_regs_gen)
 target_compile_options(ceilnav_rtl_top PRIVATE -Wno-unused-parameter)
 set_target_properties(ceilnav_rtl_top PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
+# The tape configuration (regmap.json "configurations"; docs/registers.md):
+# the top's parameter per optional block from the same JSON the register
+# generator and the C++ model (regs::kConfigTape) read.
+file(READ ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json ceilnav_regmap_text)
+function(ceilnav_config_parameters config out)
+  string(JSON nconf LENGTH "${ceilnav_regmap_text}" configurations)
+  math(EXPR last "${nconf} - 1")
+  set(found FALSE)
+  foreach(i RANGE ${last})
+    string(JSON name GET "${ceilnav_regmap_text}" configurations ${i} name)
+    if(name STREQUAL config)
+      set(found TRUE)
+      string(JSON blocks GET "${ceilnav_regmap_text}" configurations ${i} blocks)
+    endif()
+  endforeach()
+  if(NOT found)
+    message(FATAL_ERROR "regmap.json: no configuration ${config}")
+  endif()
+  # class_moments -> -GHasClassMoments=1'b0/1'b1
+  set(args "")
+  string(JSON nopt LENGTH "${ceilnav_regmap_text}" optional_blocks)
+  math(EXPR olast "${nopt} - 1")
+  foreach(i RANGE ${olast})
+    string(JSON block GET "${ceilnav_regmap_text}" optional_blocks ${i})
+    string(REPLACE "_" ";" words ${block})
+    set(camel "")
+    foreach(w IN LISTS words)
+      string(SUBSTRING ${w} 0 1 first)
+      string(TOUPPER ${first} first)
+      string(SUBSTRING ${w} 1 -1 rest)
+      string(APPEND camel ${first}${rest})
+    endforeach()
+    string(FIND "${blocks}" "\"${block}\"" at)
+    if(at EQUAL -1)
+      list(APPEND args "-GHas${camel}=1'b0")
+    else()
+      list(APPEND args "-GHas${camel}=1'b1")
+    endif()
+  endforeach()
+  set(${out} ${args} PARENT_SCOPE)
+endfunction()
+ceilnav_config_parameters(tape ceilnav_tape_parameters)
+add_library(ceilnav_rtl_top_tape STATIC)
+verilate(ceilnav_rtl_top_tape SOURCES ${ceilnav_top_sv} TOP_MODULE ceilnav_top
+         PREFIX Vceilnav_top_tape INCLUDE_DIRS ${CEILNAV_GENERATED_DIR} ${CEILNAV_VERILATOR_COVERAGE}
+         VERILATOR_ARGS -Wno-fatal --assert -O3 --x-assign unique --x-initial unique
+                        ${ceilnav_tape_parameters}
+         TRACE_FST)
+add_dependencies(ceilnav_rtl_top_tape ceilnav_regs_gen)
+target_compile_options(ceilnav_rtl_top_tape PRIVATE -Wno-unused-parameter)
+
 # The same RTL verilated for speed, for the throughput benchmark (bench/): no
 # assertions, no trace support, X resolved the fast way (the benchmark resets
 # the device and checks its results). Co-simulation keeps ceilnav_rtl_top.
@@ -64,6 +115,16 @@ target_link_libraries(cosim_ceilnav_top_test PRIVATE ceilnav_rtl_top ceilnav_str
                                                      ceilnav_golden ceilnav_warnings GTest::gtest
                                                      GTest::gtest_main)
 gtest_discover_tests(cosim_ceilnav_top_test TEST_PREFIX "cosim_ceilnav_top_test."
+                     DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")
+
+# The same top co-simulation in the tape configuration (no class_moments).
+add_executable(cosim_ceilnav_top_tape_test ${CMAKE_CURRENT_LIST_DIR}/cosim_ceilnav_top_test.cpp)
+target_compile_definitions(cosim_ceilnav_top_tape_test PRIVATE CEILNAV_TOP_CONFIG_TAPE=1)
+target_link_libraries(cosim_ceilnav_top_tape_test PRIVATE ceilnav_rtl_top_tape ceilnav_stream
+                                                          ceilnav_regs ceilnav_golden
+                                                          ceilnav_warnings GTest::gtest
+                                                          GTest::gtest_main)
+gtest_discover_tests(cosim_ceilnav_top_tape_test TEST_PREFIX "cosim_ceilnav_top_tape_test."
                      DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")
 
 # Malformed video streams: one co-simulation per class, device level.

@@ -26,16 +26,34 @@
 #pragma GCC diagnostic ignored "-Wsign-conversion"
 #pragma GCC diagnostic ignored "-Wpedantic"
 #pragma GCC diagnostic ignored "-Wunused-parameter"
+#if CEILNAV_TOP_CONFIG_TAPE
+#include "Vceilnav_top_tape.h"
+#else
 #include "Vceilnav_top.h"
+#endif
 #pragma GCC diagnostic pop
 
 namespace ceilnav::testbench {
+
+// The device configuration under test (docs/registers.md "Configurations"):
+// the same test sources are built once per configuration, against the RTL
+// verilated with that configuration's parameters and the C++ model given the
+// same regs::Config.
+#if CEILNAV_TOP_CONFIG_TAPE
+using VDeviceTop = Vceilnav_top_tape;
+inline constexpr const regs::Config& kTopConfig = regs::kConfigTape;
+#else
+using VDeviceTop = Vceilnav_top;
+inline constexpr const regs::Config& kTopConfig = regs::kConfigFull;
+#endif
 
 // The two tops in lockstep.
 class TopCosim {
  public:
   explicit TopCosim(uint64_t seed, const char* name = "ceilnav_top")
-      : sim_(name, seed), master_(seed ^ 0xA5A5A5A5u, stream::AxiLiteMaster::Timing{0.3, 0.3}) {
+      : sim_(name, seed),
+        model_(regs::kRunFifoDepth, kTopConfig),
+        master_(seed ^ 0xA5A5A5A5u, stream::AxiLiteMaster::Timing{0.3, 0.3}) {
     // The datapath's reset is rst_ni & ~soft_rst_q. With the random power-up
     // state soft_rst_q may start at 1, and then the first rst_ni pulse makes no
     // negedge on the datapath reset in the simulator (real reset is a level):
@@ -76,7 +94,7 @@ class TopCosim {
     model_.reset();
   }
 
-  Cosim<Vceilnav_top>& sim() { return sim_; }
+  Cosim<VDeviceTop>& sim() { return sim_; }
   stream::AxiLiteMaster& master() { return master_; }
   const stream::CeilnavTop& model() const { return model_; }
 
@@ -107,7 +125,7 @@ class TopCosim {
     return ok;
   }
 
-  Cosim<Vceilnav_top> sim_;
+  Cosim<VDeviceTop> sim_;
   stream::CeilnavTop model_;
   stream::AxiLiteMaster master_;
 };
@@ -123,7 +141,7 @@ class DeviceBench {
       : top_(seed, name), rng_(seed), tready_p_(tready_p) {}
 
   Rng& rng() { return rng_; }
-  Cosim<Vceilnav_top>& sim() { return top_.sim(); }
+  Cosim<VDeviceTop>& sim() { return top_.sim(); }
   const stream::CeilnavTop& model() const { return top_.model(); }
   void hard_reset() { top_.hard_reset(); }
   std::deque<stream::VideoBeat>& video() { return video_; }

@@ -48,6 +48,7 @@ struct Register {
   uint32_t count = 1;  // > 1: an array of identical registers at offset + i * stride
   uint32_t stride = 4;
   std::string desc;
+  std::string block;  // optional block the register belongs to ("" = always present)
   std::string read_effect = "none";
   std::string write_effect = "none";
   std::vector<Field> fields;
@@ -82,11 +83,22 @@ struct Param {
   std::string desc;
 };
 
+// A build-time configuration of the device: which optional blocks it has.
+struct Config {
+  std::string name;
+  std::vector<std::string> blocks;
+  bool has(const std::string& block) const {
+    return std::find(blocks.begin(), blocks.end(), block) != blocks.end();
+  }
+};
+
 struct RegMap {
   std::string name;
   std::string desc;
   uint32_t addr_width = 0;
   std::vector<Param> params;
+  std::vector<std::string> optional_blocks;  // blocks a configuration may leave out
+  std::vector<Config> configs;
   std::vector<Register> registers;
 };
 
@@ -161,6 +173,26 @@ RegMap parse(const json& j) {
     m.params.push_back({p.at("name").get<std::string>(), parse_u32(p.at("value"), "param value"),
                         p.value("desc", "")});
   }
+  for (const json& b : j.value("optional_blocks", json::array())) {
+    const std::string name = b.get<std::string>();
+    if (name.empty() || !std::islower(static_cast<unsigned char>(name[0]))) {
+      fail("bad optional block name " + name);
+    }
+    m.optional_blocks.push_back(name);
+  }
+  for (const json& c : j.value("configurations", json::array())) {
+    Config cfg{c.at("name").get<std::string>(), {}};
+    for (const json& b : c.at("blocks")) {
+      const std::string name = b.get<std::string>();
+      if (std::find(m.optional_blocks.begin(), m.optional_blocks.end(), name) ==
+          m.optional_blocks.end()) {
+        fail("configuration " + cfg.name + ": unknown optional block " + name);
+      }
+      cfg.blocks.push_back(name);
+    }
+    m.configs.push_back(cfg);
+  }
+  if (!m.optional_blocks.empty() && m.configs.empty()) fail("optional blocks but no configuration");
   for (const json& r : j.at("registers")) {
     Register reg;
     reg.name = r.at("name").get<std::string>();
@@ -171,6 +203,11 @@ RegMap parse(const json& j) {
     reg.stride = r.contains("stride") ? parse_u32(r.at("stride"), where + " stride") : 4u;
     if (reg.count < 1 || reg.stride < 4 || reg.stride % 4 != 0) fail(where + ": bad count/stride");
     reg.desc = r.value("desc", "");
+    reg.block = r.value("block", "");
+    if (!reg.block.empty() && std::find(m.optional_blocks.begin(), m.optional_blocks.end(),
+                                        reg.block) == m.optional_blocks.end()) {
+      fail(where + ": unknown optional block " + reg.block);
+    }
     reg.read_effect = r.value("read_effect", "none");
     reg.write_effect = r.value("write_effect", "none");
     for (const std::string& e : {reg.read_effect, reg.write_effect}) {
@@ -245,8 +282,16 @@ std::string sv_body(const RegMap& m, const std::string& indent) {
   for (const Param& prm : m.params) {
     o << indent << "localparam int unsigned " << prm.name << " = " << prm.value << ";\n";
   }
+  // Configurations: <Config>Has<Block> = 1 when the configuration has the block.
+  for (const Config& c : m.configs) {
+    for (const std::string& b : m.optional_blocks) {
+      o << indent << "localparam bit " << camel(m.name) << "Config" << camel(c.name) << "Has"
+        << camel(b) << " = 1'b" << (c.has(b) ? 1 : 0) << ";\n";
+    }
+  }
   for (const Register& r : m.registers) {
-    o << "\n" << indent << "// " << r.name << "\n";
+    o << "\n"
+      << indent << "// " << r.name << (r.block.empty() ? "" : " (block " + r.block + ")") << "\n";
     auto offset_line = [&](const std::string& name, uint32_t a) {
       o << indent << "localparam logic [" << aw << "-1:0] " << name << "_OFFSET = " << aw << "'h"
         << hex(a, 3) << ";\n";
@@ -316,6 +361,43 @@ std::string u32(uint32_t v) {
   return "0x" + hex(v, 8) + "u";
 }
 
+// Block: kAlways plus one enumerator per optional block.
+std::string cpp_blocks(const RegMap& m) {
+  std::ostringstream o;
+  o << "// The block a register belongs to: kAlways, or an optional block that a\n"
+    << "// configuration may leave out (its registers then answer SLVERR).\n"
+    << "enum class Block : uint8_t { kAlways";
+  for (const std::string& b : m.optional_blocks) o << ", k" << camel(b);
+  o << " };\n\n";
+  return o.str();
+}
+
+// Config: one bool per optional block, and a constant per configuration.
+std::string cpp_configs(const RegMap& m) {
+  std::ostringstream o;
+  o << "// A build-time configuration of the device: the optional blocks it has.\n"
+    << "struct Config {\n  const char* name;\n";
+  for (const std::string& b : m.optional_blocks) o << "  bool has_" << b << ";\n";
+  o << "  constexpr bool has(Block b) const {\n    switch (b) {\n";
+  for (const std::string& b : m.optional_blocks) {
+    o << "      case Block::k" << camel(b) << ":\n        return has_" << b << ";\n";
+  }
+  o << "      default:\n        return true;\n    }\n  }\n"
+    << "  // The register is present in this configuration.\n"
+    << "  constexpr bool has(const Register& r) const { return has(r.block); }\n};\n";
+  for (const Config& c : m.configs) {
+    o << "inline constexpr Config kConfig" << camel(c.name) << "{\"" << c.name << "\"";
+    for (const std::string& b : m.optional_blocks) o << ", " << (c.has(b) ? "true" : "false");
+    o << "};\n";
+  }
+  o << "inline constexpr std::array<Config, " << m.configs.size() << "> kConfigs{{";
+  for (size_t i = 0; i < m.configs.size(); ++i) {
+    o << (i ? ", " : "") << "kConfig" << camel(m.configs[i].name);
+  }
+  o << "}};\n\n";
+  return o.str();
+}
+
 std::string cpp_header(const RegMap& m) {
   std::ostringstream o;
   size_t elements = 0;
@@ -334,6 +416,7 @@ std::string cpp_header(const RegMap& m) {
   o << "\n// AXI4-Lite responses.\ninline constexpr uint8_t kRespOkay = 0;\n"
     << "inline constexpr uint8_t kRespSlvErr = 2;\n\n"
     << "enum class Access : uint8_t { kRo, kRw, kWo, kW1c };\n"
+    << cpp_blocks(m)
     << "enum class Effect : uint8_t { kNone, kLutIndexInc, kHistIndexInc, kRunPop };\n\n"
     << "struct Field {\n"
     << "  uint32_t lsb;\n  uint32_t width;\n  uint32_t reset;\n  Access access;\n"
@@ -345,7 +428,7 @@ std::string cpp_header(const RegMap& m) {
     << "struct Register {\n"
     << "  const char* name;\n  uint32_t offset;\n  uint32_t reset;\n"
     << "  uint32_t ro_mask;\n  uint32_t rw_mask;\n  uint32_t wo_mask;\n  uint32_t w1c_mask;\n"
-    << "  Effect read_effect;\n  Effect write_effect;\n"
+    << "  Effect read_effect;\n  Effect write_effect;\n  Block block;\n"
     << "  constexpr uint32_t read_mask() const { return ro_mask | rw_mask | w1c_mask; }\n"
     << "  constexpr uint32_t write_mask() const { return rw_mask | wo_mask | w1c_mask; }\n"
     << "};\n\n"
@@ -385,11 +468,13 @@ std::string cpp_header(const RegMap& m) {
       o << "    {\"" << name << "\", 0x" << hex(r.element_offset(i), 3) << "u, " << u32(r.reset())
         << ", " << u32(r.mask_of("ro")) << ", " << u32(r.mask_of("rw")) << ", "
         << u32(r.mask_of("wo")) << ", " << u32(r.mask_of("w1c")) << ", "
-        << cpp_effect(r.read_effect) << ", " << cpp_effect(r.write_effect) << "},\n";
+        << cpp_effect(r.read_effect) << ", " << cpp_effect(r.write_effect) << ", "
+        << (r.block.empty() ? std::string("Block::kAlways") : "Block::k" + camel(r.block))
+        << "},\n";
     }
   }
   o << "}};\n\n"
-    << "// The register at a (word-aligned, in-window) offset, or nullptr.\n"
+    << cpp_configs(m) << "// The register at a (word-aligned, in-window) offset, or nullptr.\n"
     << "constexpr const Register* find(uint32_t offset) {\n"
     << "  for (const Register& r : kRegisters) {\n"
     << "    if (r.offset == offset) return &r;\n  }\n  return nullptr;\n}\n\n"
@@ -411,6 +496,12 @@ std::string c_header(const RegMap& m) {
     << "#define " << p << "RESP_OKAY 0u\n#define " << p << "RESP_SLVERR 2u\n";
   for (const Param& prm : m.params) {
     o << "#define " << p << "PARAM_" << upper(prm.name) << " " << prm.value << "u\n";
+  }
+  for (const Config& c : m.configs) {
+    for (const std::string& b : m.optional_blocks) {
+      o << "#define " << p << "CONFIG_" << upper(c.name) << "_HAS_" << upper(b) << " "
+        << (c.has(b) ? 1 : 0) << "\n";
+    }
   }
   for (const Register& r : m.registers) {
     const std::string rp = p + r.name;
@@ -479,6 +570,23 @@ std::string markdown(const RegMap& m) {
     }
     o << "\n";
   }
+  if (!m.configs.empty()) {
+    o << "## Configurations\n\nThe device is built in one of these configurations (the SV top's\n"
+      << "parameters, `stream::CeilnavTop`'s `regs::Config`); a register of an optional block "
+         "that\n"
+      << "the configuration leaves out answers SLVERR like an unmapped address.\n\n"
+      << "| configuration |";
+    for (const std::string& b : m.optional_blocks) o << " " << b << " |";
+    o << "\n|---|";
+    for (size_t i = 0; i < m.optional_blocks.size(); ++i) o << "---|";
+    o << "\n";
+    for (const Config& c : m.configs) {
+      o << "| " << c.name << " |";
+      for (const std::string& b : m.optional_blocks) o << (c.has(b) ? " yes |" : " no |");
+      o << "\n";
+    }
+    o << "\n";
+  }
   o << "## Summary\n\n| offset | register | access | reset | side effect | description |\n"
     << "|---|---|---|---|---|---|\n";
   for (const Register& r : m.registers) {
@@ -499,8 +607,11 @@ std::string markdown(const RegMap& m) {
   for (const Register& r : m.registers) {
     o << "\n### " << r.name << (r.count > 1 ? "[i]" : "") << " (0x" << hex(r.offset, 3);
     if (r.count > 1) o << " + 0x" << hex(r.stride, 1) << "*i, i = 0.." << r.count - 1;
-    o << ")\n\n"
-      << md_escape(r.desc) << "\n\n"
+    o << ")\n\n" << md_escape(r.desc) << "\n\n";
+    if (!r.block.empty()) {
+      o << "Present only in configurations with the optional block `" << r.block << "`.\n\n";
+    }
+    o << ""
       << "| bits | field | access | reset | description |\n|---|---|---|---|---|\n";
     for (const Field& f : r.fields) {
       const std::string bits =
