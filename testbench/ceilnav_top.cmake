@@ -141,3 +141,14 @@ target_link_libraries(cosim_register_faults_test PRIVATE ceilnav_rtl_top ceilnav
                                                          GTest::gtest_main)
 gtest_discover_tests(cosim_register_faults_test TEST_PREFIX "cosim_register_faults_test."
                      DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")
+
+# The malformed-stream and register-fault co-sims in the tape configuration.
+foreach(test IN ITEMS malformed register_faults)
+  add_executable(cosim_${test}_tape_test ${CMAKE_CURRENT_LIST_DIR}/cosim_${test}_test.cpp)
+  target_compile_definitions(cosim_${test}_tape_test PRIVATE CEILNAV_TOP_CONFIG_TAPE=1)
+  target_link_libraries(cosim_${test}_tape_test PRIVATE ceilnav_rtl_top_tape ceilnav_stream
+                                                        ceilnav_regs ceilnav_warnings GTest::gtest
+                                                        GTest::gtest_main)
+  gtest_discover_tests(cosim_${test}_tape_test TEST_PREFIX "cosim_${test}_tape_test."
+                       DISCOVERY_TIMEOUT 120 PROPERTIES LABELS "cosim")
+endforeach()

@@ -146,9 +146,11 @@ void configure(Bench& b, Config& c) {
   b.write(r::min_run_length::kOffset, c.cfg.min_run_length);
   b.write(r::max_runs_per_row::kOffset, c.cfg.max_runs_per_row);
   b.write(r::hist_source::kOffset, 0);
-  const stream::ClassWindow& w = c.cfg.class_window;
-  b.write(r::class_win_x::kOffset, r::class_win_x::kX0.put(w.x0) | r::class_win_x::kX1.put(w.x1));
-  b.write(r::class_win_y::kOffset, r::class_win_y::kY0.put(w.y0) | r::class_win_y::kY1.put(w.y1));
+  if (kTopConfig.has_class_moments) {
+    const stream::ClassWindow& w = c.cfg.class_window;
+    b.write(r::class_win_x::kOffset, r::class_win_x::kX0.put(w.x0) | r::class_win_x::kX1.put(w.x1));
+    b.write(r::class_win_y::kOffset, r::class_win_y::kY0.put(w.y0) | r::class_win_y::kY1.put(w.y1));
+  }
 }
 
 // The whole table into the shadow bank: active from the next SOF.
@@ -166,7 +168,7 @@ void program_lut(Bench& b, const stream::PipelineConfig& cfg) {
 // The published result registers against the fast path of the same pixels,
 // and the last frame's run stream (the beats after the previous trailer).
 void check_published(Bench& b, const stream::PipelineConfig& cfg, const std::vector<uint8_t>& px) {
-  stream::Pipeline fast;
+  stream::Pipeline fast(stream::RunScanner::kDefaultFifoDepth, kTopConfig.has_class_moments);
   fast.set_config(cfg);
   std::vector<RunRecord> want_runs;
   const stream::FrameResults want = fast.process_frame(px.data(), cfg.width, cfg.height,
@@ -175,7 +177,7 @@ void check_published(Bench& b, const stream::PipelineConfig& cfg, const std::vec
     EXPECT_EQ(b.read64(r::mom_grey_lo::kOffset + 8 * i), want.moments.grey[i]) << "grey m" << i;
     EXPECT_EQ(b.read64(r::mom_mask_lo::kOffset + 8 * i), want.moments.mask[i]) << "mask m" << i;
   }
-  for (uint32_t i = 0; i < r::class_mom_lo::kCount; ++i) {
+  for (uint32_t i = 0; kTopConfig.has_class_moments && i < r::class_mom_lo::kCount; ++i) {
     EXPECT_EQ(b.read64(r::class_mom_lo::kArray.at(i)),
               want.class_moments.cls[i / stream::kMomentCount][i % stream::kMomentCount])
         << "class moment " << i;

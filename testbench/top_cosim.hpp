@@ -47,6 +47,22 @@ using VDeviceTop = Vceilnav_top;
 inline constexpr const regs::Config& kTopConfig = regs::kConfigFull;
 #endif
 
+// The registers of the configuration under test, in map order (an absent
+// block's registers answer SLVERR like unmapped offsets).
+inline std::vector<regs::Register> present_registers() {
+  std::vector<regs::Register> out;
+  for (const regs::Register& reg : regs::kRegisters) {
+    if (kTopConfig.has(reg)) out.push_back(reg);
+  }
+  return out;
+}
+
+// The register at `offset` if the configuration under test has it, else nullptr.
+inline const regs::Register* present(uint32_t offset) {
+  const regs::Register* reg = regs::find(offset);
+  return reg != nullptr && kTopConfig.has(*reg) ? reg : nullptr;
+}
+
 // The two tops in lockstep.
 class TopCosim {
  public:
