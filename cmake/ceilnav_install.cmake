@@ -18,7 +18,8 @@ foreach(dir IN ITEMS fixedpoint stream host golden)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/ DESTINATION ${CEILNAV_INSTALL_INCLUDEDIR}/${dir}
           FILES_MATCHING PATTERN "*.hpp" PATTERN "tests" EXCLUDE)
 endforeach()
-install(FILES ${CEILNAV_GENERATED_DIR}/ceilnav/regs.hpp ${CEILNAV_GENERATED_DIR}/ceilnav/ceilnav_regs.h
+install(FILES ${CEILNAV_GENERATED_DIR}/ceilnav/regs.hpp ${CEILNAV_GENERATED_DIR}/ceilnav/regblock.hpp
+              ${CEILNAV_GENERATED_DIR}/ceilnav/ceilnav_regs.h
         DESTINATION ${CEILNAV_INSTALL_INCLUDEDIR}/ceilnav)
 
 set(config_dir ${CMAKE_INSTALL_LIBDIR}/cmake/ceilnav)

@@ -1,24 +1,35 @@
 # The Verilated device top (rtl_model/ceilnav_top.sv and the blocks under it)
 # as a static library: linked by the top co-simulation test and by the host
-# (a later RtlBus). The register include file comes from tools/regmap_gen.
+# (a later RtlBus). The register package and register block come from
+# tools/regmap_gen.
+# The generated register package comes first (the RTL uses its types), then
+# the generated register block.
 set(ceilnav_top_sv
+    ${CEILNAV_GENERATED_DIR}/ceilnav_reg_pkg.sv ${CEILNAV_GENERATED_DIR}/ceilnav_regblock.sv
     ${CEILNAV_RTL_DIR}/ceilnav_top.sv ${CEILNAV_RTL_DIR}/pipeline.sv
     ${CEILNAV_RTL_DIR}/frame_check.sv ${CEILNAV_RTL_DIR}/thresh_lut.sv
     ${CEILNAV_RTL_DIR}/histogram.sv ${CEILNAV_RTL_DIR}/moment_gen.sv
     ${CEILNAV_RTL_DIR}/class_moments.sv
     ${CEILNAV_RTL_DIR}/run_fifo.sv ${CEILNAV_RTL_DIR}/run_scanner.sv)
 # verilate() runs Verilator at configure time, before the build generates the
-# include file: in a fresh build tree, generate it now with a configure-time
+# register block: in a fresh build tree, generate it now with a configure-time
 # build of the same generator (the build-time rule regenerates it from then on).
 # Also when the map or the generator changed since: Verilator must not see a
-# stale include at configure time (an existing build tree after a merge).
+# stale register block at configure time (an existing build tree after a merge).
+set(regmap_gen_sources ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp
+                       ${PROJECT_SOURCE_DIR}/tools/regmap_model.cpp
+                       ${PROJECT_SOURCE_DIR}/tools/regmap_model.hpp
+                       ${PROJECT_SOURCE_DIR}/tools/regblock_emit.cpp)
+set(regmap_stamp ${CEILNAV_GENERATED_DIR}/ceilnav_regblock.sv)
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
-             ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp)
-if(NOT EXISTS ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh
-   OR ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json IS_NEWER_THAN
-      ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh
-   OR ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp IS_NEWER_THAN
-      ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh)
+             ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json ${regmap_gen_sources})
+set(regmap_stale FALSE)
+foreach(input IN LISTS regmap_gen_sources ITEMS ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json)
+  if(NOT EXISTS ${regmap_stamp} OR ${input} IS_NEWER_THAN ${regmap_stamp})
+    set(regmap_stale TRUE)
+  endif()
+endforeach()
+if(regmap_stale)
   get_target_property(json_inc nlohmann_json::nlohmann_json INTERFACE_INCLUDE_DIRECTORIES)
   set(json_flags "")
   foreach(dir IN LISTS json_inc)
@@ -26,15 +37,19 @@ if(NOT EXISTS ${CEILNAV_GENERATED_DIR}/ceilnav_regs.svh
   endforeach()
   set(regmap_boot ${CMAKE_CURRENT_BINARY_DIR}/regmap_gen_configure)
   execute_process(COMMAND ${CMAKE_CXX_COMPILER} -std=c++20 ${json_flags}
-                          ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp -o ${regmap_boot}
+                          ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp
+                          ${PROJECT_SOURCE_DIR}/tools/regmap_model.cpp
+                          ${PROJECT_SOURCE_DIR}/tools/regblock_emit.cpp -o ${regmap_boot}
                   RESULT_VARIABLE regmap_boot_rc)
   if(regmap_boot_rc EQUAL 0)
     execute_process(COMMAND ${regmap_boot} ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json
                             ${CEILNAV_GENERATED_DIR} RESULT_VARIABLE regmap_boot_rc)
   endif()
   if(NOT regmap_boot_rc EQUAL 0)
-    message(FATAL_ERROR "could not generate ceilnav_regs.svh at configure time")
+    message(FATAL_ERROR "could not generate the register block at configure time")
   endif()
+  # write_if_changed keeps an unchanged file's time: mark the stamp fresh.
+  file(TOUCH ${regmap_stamp})
 endif()
 add_library(ceilnav_rtl_top STATIC)
 verilate(ceilnav_rtl_top SOURCES ${ceilnav_top_sv} TOP_MODULE ceilnav_top PREFIX Vceilnav_top

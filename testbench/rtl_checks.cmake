@@ -2,7 +2,7 @@
 # a waiver with a reason in rtl_model/lint.vlt), and Yosys synth_ice40 +
 # synth_xilinx of every module (scripts/rtl_synth prints the cell counts).
 find_program(YOSYS yosys REQUIRED)
-# ceilnav_top includes the generated ceilnav_regs.svh (tools/regmap_gen).
+# ceilnav_top uses the generated register package and block (tools/regmap_gen).
 add_test(NAME rtl.lint COMMAND ${PROJECT_SOURCE_DIR}/scripts/rtl_lint ${CEILNAV_GENERATED_DIR})
 set_tests_properties(rtl.lint PROPERTIES LABELS "unit;rtl")
 

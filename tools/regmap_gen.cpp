@@ -1,9 +1,12 @@
-// regmap_gen: rtl_model/regmap.json -> the SystemVerilog package and include
-// file, the C++ header and the Markdown register table. The JSON is the only
-// place where a register address, field position or reset value is written.
+// regmap_gen: rtl_model/regmap.json -> the SystemVerilog package and register
+// block, the C++ header and register block model, the C header and the
+// Markdown register table. The JSON is the only place where a register
+// address, field position, reset value or access behaviour is written.
 //
 // Usage: regmap_gen <regmap.json> <output dir>
-// Writes <out>/ceilnav_reg_pkg.sv, <out>/ceilnav_regs.svh,
+// Writes <out>/ceilnav_reg_pkg.sv (constants and the register block types),
+// the register block <out>/ceilnav_regblock.sv and its C++ model
+// <out>/ceilnav/regblock.hpp,
 // <out>/ceilnav/regs.hpp, the C header <out>/ceilnav/ceilnav_regs.h and
 // <out>/registers.md. Exits 1 with a message on any
 // inconsistency (overlap, misalignment, field outside 32 bits, reset value
@@ -23,254 +26,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "regmap_model.hpp"
+
 namespace {
 
-using nlohmann::json;
+using namespace regmap;
 
-struct Field {
-  std::string name;
-  uint32_t lsb = 0;
-  uint32_t width = 1;
-  std::string access;  // ro, rw, wo, w1c
-  uint32_t reset = 0;
-  std::string param;  // reset value taken from this parameter (documentation)
-  std::string desc;
-
-  uint32_t mask() const {
-    const uint32_t ones = width >= 32 ? 0xFFFFFFFFu : ((1u << width) - 1u);
-    return ones << lsb;
-  }
-};
-
-struct Register {
-  std::string name;
-  uint32_t offset = 0;
-  uint32_t count = 1;  // > 1: an array of identical registers at offset + i * stride
-  uint32_t stride = 4;
-  std::string desc;
-  std::string block;  // optional block the register belongs to ("" = always present)
-  std::string read_effect = "none";
-  std::string write_effect = "none";
-  std::vector<Field> fields;
-
-  uint32_t element_offset(uint32_t i) const { return offset + i * stride; }
-  uint32_t reset() const {
-    uint32_t v = 0;
-    for (const Field& f : fields) v |= f.reset << f.lsb;
-    return v;
-  }
-  uint32_t mask_of(const std::string& access) const {
-    uint32_t m = 0;
-    for (const Field& f : fields) {
-      if (f.access == access) m |= f.mask();
-    }
-    return m;
-  }
-  std::string access_summary() const {
-    std::vector<std::string> kinds;
-    for (const Field& f : fields) {
-      if (std::find(kinds.begin(), kinds.end(), f.access) == kinds.end()) kinds.push_back(f.access);
-    }
-    std::string s;
-    for (const std::string& k : kinds) s += (s.empty() ? "" : "/") + k;
-    return s;
-  }
-};
-
-struct Param {
-  std::string name;
-  uint32_t value = 0;
-  std::string desc;
-};
-
-// A build-time configuration of the device: which optional blocks it has.
-struct Config {
-  std::string name;
-  std::vector<std::string> blocks;
-  bool has(const std::string& block) const {
-    return std::find(blocks.begin(), blocks.end(), block) != blocks.end();
-  }
-};
-
-struct RegMap {
-  std::string name;
-  std::string desc;
-  uint32_t addr_width = 0;
-  std::vector<Param> params;
-  std::vector<std::string> optional_blocks;  // blocks a configuration may leave out
-  std::vector<Config> configs;
-  std::vector<Register> registers;
-};
-
-[[noreturn]] void fail(const std::string& msg) {
-  throw std::runtime_error(msg);
-}
-
-uint32_t parse_u32(const json& j, const std::string& what) {
-  if (j.is_number_unsigned()) {
-    const uint64_t v = j.get<uint64_t>();
-    if (v > 0xFFFFFFFFull) fail(what + ": value does not fit 32 bits");
-    return static_cast<uint32_t>(v);
-  }
-  if (!j.is_string()) fail(what + ": expected a number or a string");
-  const std::string s = j.get<std::string>();
-  size_t used = 0;
-  unsigned long long v = 0;
-  try {
-    v = std::stoull(s, &used, 0);
-  } catch (const std::exception&) {
-    fail(what + ": not a number: " + s);
-  }
-  if (used != s.size() || v > 0xFFFFFFFFull) fail(what + ": bad value " + s);
-  return static_cast<uint32_t>(v);
-}
-
-std::string upper(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
-}
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-// FRAME_DONE -> FrameDone
-std::string camel(const std::string& s) {
-  std::string out;
-  bool up = true;
-  for (char c : s) {
-    if (c == '_') {
-      up = true;
-      continue;
-    }
-    out += up ? static_cast<char>(std::toupper(static_cast<unsigned char>(c)))
-              : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    up = false;
-  }
-  return out;
-}
-bool valid_name(const std::string& s) {
-  if (s.empty() || !std::isupper(static_cast<unsigned char>(s[0]))) return false;
-  return std::all_of(s.begin(), s.end(), [](char c) {
-    return std::isupper(static_cast<unsigned char>(c)) ||
-           std::isdigit(static_cast<unsigned char>(c)) || c == '_';
-  });
-}
-
-std::string hex(uint32_t v, int digits) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "%0*X", digits, v);
-  return buf;
-}
-
-RegMap parse(const json& j) {
-  RegMap m;
-  m.name = j.at("name").get<std::string>();
-  m.desc = j.value("desc", "");
-  m.addr_width = parse_u32(j.at("addr_width"), "addr_width");
-  if (m.addr_width < 3 || m.addr_width > 32) fail("addr_width must be 3..32");
-  if (parse_u32(j.at("data_width"), "data_width") != 32) fail("data_width must be 32");
-  for (const json& p : j.value("params", json::array())) {
-    m.params.push_back({p.at("name").get<std::string>(), parse_u32(p.at("value"), "param value"),
-                        p.value("desc", "")});
-  }
-  for (const json& b : j.value("optional_blocks", json::array())) {
-    const std::string name = b.get<std::string>();
-    if (name.empty() || !std::islower(static_cast<unsigned char>(name[0]))) {
-      fail("bad optional block name " + name);
-    }
-    m.optional_blocks.push_back(name);
-  }
-  for (const json& c : j.value("configurations", json::array())) {
-    Config cfg{c.at("name").get<std::string>(), {}};
-    for (const json& b : c.at("blocks")) {
-      const std::string name = b.get<std::string>();
-      if (std::find(m.optional_blocks.begin(), m.optional_blocks.end(), name) ==
-          m.optional_blocks.end()) {
-        fail("configuration " + cfg.name + ": unknown optional block " + name);
-      }
-      cfg.blocks.push_back(name);
-    }
-    m.configs.push_back(cfg);
-  }
-  if (!m.optional_blocks.empty() && m.configs.empty()) fail("optional blocks but no configuration");
-  for (const json& r : j.at("registers")) {
-    Register reg;
-    reg.name = r.at("name").get<std::string>();
-    if (!valid_name(reg.name)) fail("bad register name " + reg.name);
-    const std::string where = "register " + reg.name;
-    reg.offset = parse_u32(r.at("offset"), where + " offset");
-    reg.count = r.contains("count") ? parse_u32(r.at("count"), where + " count") : 1u;
-    reg.stride = r.contains("stride") ? parse_u32(r.at("stride"), where + " stride") : 4u;
-    if (reg.count < 1 || reg.stride < 4 || reg.stride % 4 != 0) fail(where + ": bad count/stride");
-    reg.desc = r.value("desc", "");
-    reg.block = r.value("block", "");
-    if (!reg.block.empty() && std::find(m.optional_blocks.begin(), m.optional_blocks.end(),
-                                        reg.block) == m.optional_blocks.end()) {
-      fail(where + ": unknown optional block " + reg.block);
-    }
-    reg.read_effect = r.value("read_effect", "none");
-    reg.write_effect = r.value("write_effect", "none");
-    for (const std::string& e : {reg.read_effect, reg.write_effect}) {
-      if (e != "none" && e != "lut_index_inc" && e != "hist_index_inc" && e != "run_pop") {
-        fail(where + ": unknown side effect " + e);
-      }
-    }
-    uint32_t used = 0;
-    for (const json& fj : r.at("fields")) {
-      Field f;
-      f.name = fj.at("name").get<std::string>();
-      if (!valid_name(f.name)) fail(where + ": bad field name " + f.name);
-      const std::string fwhere = where + "." + f.name;
-      const std::string bits = fj.at("bits").get<std::string>();
-      const size_t colon = bits.find(':');
-      uint32_t msb = 0;
-      if (colon == std::string::npos) {
-        msb = f.lsb = parse_u32(json(bits), fwhere + " bits");
-      } else {
-        msb = parse_u32(json(bits.substr(0, colon)), fwhere + " msb");
-        f.lsb = parse_u32(json(bits.substr(colon + 1)), fwhere + " lsb");
-      }
-      if (msb < f.lsb || msb > 31) fail(fwhere + ": bad bit range " + bits);
-      f.width = msb - f.lsb + 1;
-      f.access = fj.at("access").get<std::string>();
-      if (f.access != "ro" && f.access != "rw" && f.access != "wo" && f.access != "w1c") {
-        fail(fwhere + ": unknown access " + f.access);
-      }
-      f.reset = parse_u32(fj.at("reset"), fwhere + " reset");
-      if ((f.reset << f.lsb) >> f.lsb != f.reset || ((f.reset << f.lsb) & ~f.mask()) != 0) {
-        fail(fwhere + ": reset value wider than the field");
-      }
-      f.param = fj.value("param", "");
-      if (!f.param.empty()) {
-        const auto it = std::find_if(m.params.begin(), m.params.end(),
-                                     [&](const Param& p) { return p.name == f.param; });
-        if (it == m.params.end()) fail(fwhere + ": unknown parameter " + f.param);
-        if (it->value != f.reset) fail(fwhere + ": reset differs from parameter " + f.param);
-      }
-      f.desc = fj.value("desc", "");
-      if ((used & f.mask()) != 0) fail(fwhere + ": overlaps another field");
-      used |= f.mask();
-      reg.fields.push_back(f);
-    }
-    if (reg.fields.empty()) fail(where + ": no fields");
-    m.registers.push_back(reg);
-  }
-  // Addresses: aligned, inside the window, no two registers on one word.
-  std::map<uint32_t, std::string> taken;
-  for (const Register& r : m.registers) {
-    for (uint32_t i = 0; i < r.count; ++i) {
-      const uint32_t a = r.element_offset(i);
-      if (a % 4 != 0) fail(r.name + ": offset not word aligned");
-      if (m.addr_width < 32 && a >= (1u << m.addr_width)) fail(r.name + ": offset outside window");
-      if (!taken.emplace(a, r.name).second) {
-        fail(r.name + ": offset 0x" + hex(a, 3) + " already used by " + taken[a]);
-      }
-    }
-  }
-  return m;
-}
-
-// ---- SystemVerilog: the same localparams as a package and as an include file.
+// ---- SystemVerilog: the localparams of the package.
 std::string sv_body(const RegMap& m, const std::string& indent) {
   const std::string p = upper(m.name) + "_";
   const std::string aw = std::to_string(m.addr_width);
@@ -328,19 +90,8 @@ std::string sv_package(const RegMap& m) {
   std::ostringstream o;
   o << "// Generated by tools/regmap_gen from rtl_model/regmap.json. Do not edit.\n"
     << "package " << m.name << "_reg_pkg;\n\n"
-    << sv_body(m, "  ") << "\nendpackage\n";
-  return o.str();
-}
-
-std::string sv_include(const RegMap& m) {
-  const std::string guard = upper(m.name) + "_REGS_SVH";
-  std::ostringstream o;
-  o << "// Generated by tools/regmap_gen from rtl_model/regmap.json. Do not edit.\n"
-    << "// The localparams of " << m.name
-    << "_reg_pkg, for tools without package support: `include\n"
-    << "// inside a module body.\n"
-    << "`ifndef " << guard << "\n`define " << guard << "\n\n"
-    << sv_body(m, "") << "\n`endif  // " << guard << "\n";
+    << sv_body(m, "  ") << "\n"
+    << sv_regblock_types(m, "  ") << "\nendpackage\n";
   return o.str();
 }
 
@@ -352,11 +103,15 @@ std::string cpp_access(const std::string& a) {
   return "Access::kW1c";
 }
 std::string cpp_effect(const std::string& e) {
-  if (e == "lut_index_inc") return "Effect::kLutIndexInc";
-  if (e == "hist_index_inc") return "Effect::kHistIndexInc";
-  if (e == "run_pop") return "Effect::kRunPop";
-  return "Effect::kNone";
+  return e == "none" ? "Effect::kNone" : "Effect::k" + camel(e);
 }
+// Effect: kNone plus one enumerator per side effect of the map.
+std::string effect_enum(const RegMap& m) {
+  std::string o = "enum class Effect : uint8_t { kNone";
+  for (const Effect& e : m.effects) o += ", k" + camel(e.name);
+  return o + " };\n\n";
+}
+
 std::string u32(uint32_t v) {
   return "0x" + hex(v, 8) + "u";
 }
@@ -416,9 +171,7 @@ std::string cpp_header(const RegMap& m) {
   o << "\n// AXI4-Lite responses.\ninline constexpr uint8_t kRespOkay = 0;\n"
     << "inline constexpr uint8_t kRespSlvErr = 2;\n\n"
     << "enum class Access : uint8_t { kRo, kRw, kWo, kW1c };\n"
-    << cpp_blocks(m)
-    << "enum class Effect : uint8_t { kNone, kLutIndexInc, kHistIndexInc, kRunPop };\n\n"
-    << "struct Field {\n"
+    << cpp_blocks(m) << effect_enum(m) << "struct Field {\n"
     << "  uint32_t lsb;\n  uint32_t width;\n  uint32_t reset;\n  Access access;\n"
     << "  constexpr uint32_t mask() const {\n"
     << "    return (width >= 32 ? 0xFFFFFFFFu : ((1u << width) - 1u)) << lsb;\n  }\n"
@@ -562,7 +315,28 @@ std::string markdown(const RegMap& m) {
     << "header `" << m.name << "/regs.hpp` and the C99 header `" << m.name << "/" << m.name
     << "_regs.h` for drivers\n"
     << "(offsets, field LSB/width/mask, reset values, `<REG>_OFFSET_I(i)` for arrays); both\n"
-    << "headers are installed with the package (docs/architecture.md).\n\n";
+    << "headers are installed with the package (docs/architecture.md). The register block\n"
+    << "itself is generated too: the SystemVerilog module `" << m.name
+    << "_regblock` (decode, storage,\n"
+    << "read multiplexer, strobes, interrupt; ports `reg2hw` / `hw2reg` typed in the package)\n"
+    << "and its C++ cycle model `stream::RegBlock` (`" << m.name
+    << "/regblock.hpp`); the device top only\n"
+    << "connects hardware to them. Each `ro` field is a hardware input unless marked constant;\n"
+    << "`rw` and `w1c` fields are stored in the block, a `w1c` field is set by hardware (a set\n"
+    << "wins over a clear on the same edge); `wo` fields are the write data of a write strobe.\n\n";
+  if (!m.effects.empty()) {
+    o << "Side effects (of an OKAY access; each is also a strobe of the register block):\n\n"
+      << "| effect | description |\n|---|---|\n";
+    for (const Effect& e : m.effects) {
+      o << "| " << e.name << " | " << md_escape(e.desc) << " |\n";
+    }
+    o << "\n";
+  }
+  if (!m.interrupts.state.empty()) {
+    o << "Interrupt: " << m.interrupts.state << " (w1c, set by hardware and by writing 1 to "
+      << m.interrupts.test << "), " << m.interrupts.enable << "; `irq = |(" << m.interrupts.state
+      << " & " << m.interrupts.enable << ")`.\n\n";
+  }
   if (!m.params.empty()) {
     o << "| parameter | default | description |\n|---|---|---|\n";
     for (const Param& p : m.params) {
@@ -611,14 +385,17 @@ std::string markdown(const RegMap& m) {
     if (!r.block.empty()) {
       o << "Present only in configurations with the optional block `" << r.block << "`.\n\n";
     }
-    o << ""
-      << "| bits | field | access | reset | description |\n|---|---|---|---|---|\n";
+    if (r.external) {
+      o << "External: the value is the hardware's read port, one edge after the read strobe.\n\n";
+    }
+    o << "| bits | field | access | reset | description |\n|---|---|---|---|---|\n";
     for (const Field& f : r.fields) {
       const std::string bits =
           f.width == 1 ? std::to_string(f.lsb)
                        : std::to_string(f.lsb + f.width - 1) + ":" + std::to_string(f.lsb);
       std::string reset = "0x" + hex(f.reset, 1);
       if (!f.param.empty()) reset += " (" + f.param + ")";
+      if (f.constant) reset += " (constant)";
       o << "| " << bits << " | " << f.name << " | " << f.access << " | " << reset << " | "
         << md_escape(f.desc) << " |\n";
     }
@@ -655,10 +432,11 @@ int main(int argc, char** argv) {
     const RegMap m = parse(json::parse(in));
     const std::filesystem::path out = argv[2];
     write_if_changed(out / (m.name + "_reg_pkg.sv"), sv_package(m));
-    write_if_changed(out / (m.name + "_regs.svh"), sv_include(m));
     write_if_changed(out / m.name / "regs.hpp", cpp_header(m));
     write_if_changed(out / m.name / (m.name + "_regs.h"), c_header(m));
     write_if_changed(out / "registers.md", markdown(m));
+    write_if_changed(out / (m.name + "_regblock.sv"), sv_regblock(m));
+    write_if_changed(out / m.name / "regblock.hpp", cpp_regblock(m));
   } catch (const std::exception& e) {
     std::cerr << "regmap_gen: " << argv[1] << ": " << e.what() << "\n";
     return 1;
