@@ -23,29 +23,34 @@ set(regmap_gen_sources ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp
 set(regmap_stamp ${CEILNAV_GENERATED_DIR}/ceilnav_regblock.sv)
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
              ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json ${regmap_gen_sources})
-set(regmap_stale FALSE)
-foreach(input IN LISTS regmap_gen_sources ITEMS ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json)
-  if(NOT EXISTS ${regmap_stamp} OR ${input} IS_NEWER_THAN ${regmap_stamp})
-    set(regmap_stale TRUE)
+# The configure-time generator: rebuilt when a generator source changed.
+set(ceilnav_regmap_boot ${CMAKE_CURRENT_BINARY_DIR}/regmap_gen_configure)
+set(regmap_boot_stale FALSE)
+foreach(input IN LISTS regmap_gen_sources)
+  if(NOT EXISTS ${ceilnav_regmap_boot} OR ${input} IS_NEWER_THAN ${ceilnav_regmap_boot})
+    set(regmap_boot_stale TRUE)
   endif()
 endforeach()
-if(regmap_stale)
+if(regmap_boot_stale)
   get_target_property(json_inc nlohmann_json::nlohmann_json INTERFACE_INCLUDE_DIRECTORIES)
   set(json_flags "")
   foreach(dir IN LISTS json_inc)
     list(APPEND json_flags -I${dir})
   endforeach()
-  set(regmap_boot ${CMAKE_CURRENT_BINARY_DIR}/regmap_gen_configure)
   execute_process(COMMAND ${CMAKE_CXX_COMPILER} -std=c++20 ${json_flags}
                           ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp
                           ${PROJECT_SOURCE_DIR}/tools/regmap_model.cpp
-                          ${PROJECT_SOURCE_DIR}/tools/regblock_emit.cpp -o ${regmap_boot}
+                          ${PROJECT_SOURCE_DIR}/tools/regblock_emit.cpp -o ${ceilnav_regmap_boot}
                   RESULT_VARIABLE regmap_boot_rc)
-  if(regmap_boot_rc EQUAL 0)
-    execute_process(COMMAND ${regmap_boot} ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json
-                            ${CEILNAV_GENERATED_DIR} RESULT_VARIABLE regmap_boot_rc)
-  endif()
   if(NOT regmap_boot_rc EQUAL 0)
+    message(FATAL_ERROR "could not build the register map generator at configure time")
+  endif()
+endif()
+if(regmap_boot_stale OR NOT EXISTS ${regmap_stamp}
+   OR ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json IS_NEWER_THAN ${regmap_stamp})
+  execute_process(COMMAND ${ceilnav_regmap_boot} ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json
+                          ${CEILNAV_GENERATED_DIR} RESULT_VARIABLE regmap_gen_rc)
+  if(NOT regmap_gen_rc EQUAL 0)
     message(FATAL_ERROR "could not generate the register block at configure time")
   endif()
   # write_if_changed keeps an unchanged file's time: mark the stamp fresh.

@@ -21,6 +21,7 @@
 //   adds 1 to an rw field unless the same edge writes it.
 // * Interrupts: the test register sets the state register; irq_o =
 //   |(state & enable), irq_rise_o is high on the edge on which irq_o rises.
+#include <algorithm>
 #include <map>
 #include <sstream>
 #include <string>
@@ -467,6 +468,57 @@ std::string sv_regblock(const RegMap& m) {
   return o.str();
 }
 
+namespace {
+
+// A member of a packed struct port: its C++ expression, LSB and width.
+struct Bits {
+  std::string expr;
+  uint32_t lsb;
+  uint32_t width;
+  bool flag;  // a bool in C++ (we, re)
+};
+
+// SV packed layout: the first member is the most significant.
+std::vector<Bits> reg2hw_layout(const RegMap& m) {
+  std::vector<Bits> out;
+  uint32_t lsb = 0;
+  for (auto r = m.registers.rbegin(); r != m.registers.rend(); ++r) {
+    if (!in_reg2hw(m, *r)) continue;
+    const std::string base = member(r->name) + ".";
+    if (has_re(*r)) out.push_back({base + "re", lsb++, 1, true});
+    if (has_we(m, *r)) out.push_back({base + "we", lsb++, 1, true});
+    const auto fields = reg2hw_fields(m, *r);
+    for (auto f = fields.rbegin(); f != fields.rend(); ++f) {
+      out.push_back({base + member((*f)->name), lsb, (*f)->width, false});
+      lsb += (*f)->width;
+    }
+  }
+  return out;
+}
+std::vector<Bits> hw2reg_layout(const RegMap& m) {
+  std::vector<Bits> out;
+  uint32_t lsb = 0;
+  for (auto r = m.registers.rbegin(); r != m.registers.rend(); ++r) {
+    const auto fields = hw2reg_fields(*r);
+    for (auto f = fields.rbegin(); f != fields.rend(); ++f) {
+      const std::string e = member(r->name) + "." + member((*f)->name);
+      for (uint32_t i = 0; i < r->count; ++i) {
+        out.push_back(
+            {r->count > 1 ? e + "[" + std::to_string(i) + "]" : e, lsb, (*f)->width, false});
+        lsb += (*f)->width;
+      }
+    }
+  }
+  return out;
+}
+uint32_t total_bits(const std::vector<Bits>& layout) {
+  uint32_t n = 0;
+  for (const Bits& b : layout) n = std::max(n, b.lsb + b.width);
+  return n;
+}
+
+}  // namespace
+
 // ---- C++: the cycle model of the register block.
 std::string cpp_regblock(const RegMap& m) {
   const std::vector<Word> ws = words(m);
@@ -478,6 +530,9 @@ std::string cpp_regblock(const RegMap& m) {
     << "#pragma once\n\n#include <array>\n#include <cstdint>\n\n"
     << "#include \"" << m.name << "/regs.hpp\"\n#include \"stream/axi_lite.hpp\"\n\n"
     << "namespace " << m.name << "::stream {\n\n";
+  if (m.name != "ceilnav") {
+    o << "using ::ceilnav::stream::AxiLiteIn;\nusing ::ceilnav::stream::AxiLiteOut;\n\n";
+  }
 
   // Reg2Hw / Hw2Reg.
   o << "// Register block -> design: stored rw fields (the values before the edge\n"
@@ -541,19 +596,21 @@ std::string cpp_regblock(const RegMap& m) {
     << "      const int w = word_of(in.awaddr);\n"
     << "      wr_err_ = w < 0 || !writable(w) || in.wstrb != 0xF;\n"
     << "      if (!wr_err_) wr_word_ = w;\n    }\n"
-    << "    const uint32_t wdata = in.wdata;\n    (void)wdata;\n"
-    << "    switch (wr_word_) {\n";
+    << "    // wo fields: the write data bus, whatever the strobe (as the SV).\n";
+  for (const Register& r : m.registers) {
+    for (const Field* f : reg2hw_fields(m, r)) {
+      if (f->access == "wo") {
+        o << "    reg2hw_." << member(r.name) << "." << member(f->name)
+          << " = regs::" << lower(r.name) << "::k" << camel(f->name) << ".get(in.wdata);\n";
+      }
+    }
+  }
+  o << "    switch (wr_word_) {\n";
   for (size_t e = 0; e < ws.size(); ++e) {
     const Register& r = *ws[e].reg;
     if (!has_we(m, r)) continue;
-    o << "      case " << e << ":\n";
-    for (const Field* f : reg2hw_fields(m, r)) {
-      if (f->access == "wo") {
-        o << "        reg2hw_." << member(r.name) << "." << member(f->name)
-          << " = regs::" << lower(r.name) << "::k" << camel(f->name) << ".get(wdata);\n";
-      }
-    }
-    o << "        reg2hw_." << member(r.name) << ".we = true;\n        break;\n";
+    o << "      case " << e << ":\n"
+      << "        reg2hw_." << member(r.name) << ".we = true;\n        break;\n";
   }
   o << "      default:\n        break;\n    }\n"
     << "    if (rd_stage_q_ == 1) {\n      switch (rd_word_q_) {\n";
@@ -745,7 +802,39 @@ std::string cpp_regblock(const RegMap& m) {
        "rvalid\n"
     << "  int rd_word_q_ = -1;\n  uint32_t rd_data_q_ = 0;\n  uint8_t rd_resp_q_ = 0;\n"
     << "  int rd_ext_q_ = -1;\n  bool irq_rise_ = false;\n};\n\n"
-    << "}  // namespace " << m.name << "::stream\n";
+    << "// The packed struct ports of the SV block as 32-bit words (word 0 = bits\n"
+    << "// 31:0), for harnesses that drive both: first member = most significant.\n";
+  const auto h2r = hw2reg_layout(m);
+  const auto r2h = reg2hw_layout(m);
+  o << "inline constexpr uint32_t kHw2RegBits = " << total_bits(h2r) << ";\n"
+    << "inline constexpr uint32_t kReg2HwBits = " << total_bits(r2h) << ";\n\n"
+    << "namespace detail {\n"
+    << "inline void put_bits(uint32_t* words, uint32_t lsb, uint32_t width, uint32_t v) {\n"
+    << "  for (uint32_t b = 0; b < width; ++b) {\n"
+    << "    if ((v >> b) & 1u) words[(lsb + b) / 32] |= 1u << ((lsb + b) % 32);\n  }\n}\n"
+    << "inline uint32_t get_bits(const uint32_t* words, uint32_t lsb, uint32_t width) {\n"
+    << "  uint32_t v = 0;\n  for (uint32_t b = 0; b < width; ++b) {\n"
+    << "    v |= ((words[(lsb + b) / 32] >> ((lsb + b) % 32)) & 1u) << b;\n  }\n"
+    << "  return v;\n}\n}  // namespace detail\n\n";
+  const auto emit = [&o](const char* type, const char* what, const std::vector<Bits>& layout,
+                         const char* bits) {
+    o << "inline void pack_" << what << "(const " << type << "& s, uint32_t* words) {\n"
+      << "  for (uint32_t i = 0; i < (" << bits << " + 31) / 32; ++i) words[i] = 0;\n";
+    for (const Bits& b : layout) {
+      o << "  detail::put_bits(words, " << b.lsb << ", " << b.width << ", "
+        << (b.flag ? "s." + b.expr + " ? 1u : 0u" : "s." + b.expr) << ");\n";
+    }
+    o << "}\ninline " << type << " unpack_" << what << "(const uint32_t* words) {\n  " << type
+      << " s;\n";
+    for (const Bits& b : layout) {
+      o << "  s." << b.expr << " = detail::get_bits(words, " << b.lsb << ", " << b.width << ")"
+        << (b.flag ? " != 0" : "") << ";\n";
+    }
+    o << "  return s;\n}\n\n";
+  };
+  emit("Hw2Reg", "hw2reg", h2r, "kHw2RegBits");
+  emit("Reg2Hw", "reg2hw", r2h, "kReg2HwBits");
+  o << "}  // namespace " << m.name << "::stream\n";
   return o.str();
 }
 
