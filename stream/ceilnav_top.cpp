@@ -134,7 +134,7 @@ void CeilnavTop::fill_read_inputs() {
 void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
                        bool m_axis_runs_tready) {
   // ---- Register block, first half: this edge's write and read strobes.
-  regs_.begin_edge(s_axil);
+  regs_.begin_edge(s_axil, hw_);
   const Reg2Hw& r = regs_.reg2hw();
   // Inputs of the register block: the state before this edge.
   if (regs_.read_sampling()) fill_read_inputs();

@@ -4,7 +4,8 @@
 // arrays, external registers, read and write effects, multi-bit interrupts, an
 // optional block), driven with the same random bus and hardware inputs, compared
 // on every output bit every cycle: the AXI4-Lite outputs, the whole reg2hw
-// struct, irq_o and irq_rise_o. The bus is raw random (valids and readys
+// struct, irq_o and irq_rise_o. The `ram` port is not ready 30 % of the time
+// (reads of it are held). The bus is raw random (valids and readys
 // toggling, addresses in and out of the map, partial strobes): both must agree
 // whatever the master does. Built twice: with and without the optional block.
 #include <array>
@@ -72,6 +73,7 @@ Hw2Reg random_hw(Rng& rng) {
   Hw2Reg hw = rbtest::stream::unpack_hw2reg(w.data());
   if (!rng.chance(0.1)) hw.intr_state = {};
   if (!rng.chance(0.1)) hw.cause = {};
+  hw.ram.ready = rng.chance(0.7);
   return hw;
 }
 
@@ -94,7 +96,7 @@ void run(uint64_t seed, uint64_t cycles) {
   RegBlock model(kConfig);
   Rng rng(seed);
   AxiLiteIn in;
-  uint64_t okay_reads = 0, okay_writes = 0, irq_rises = 0, ext_reads = 0;
+  uint64_t okay_reads = 0, okay_writes = 0, irq_rises = 0, ext_reads = 0, store_reads = 0;
   for (uint64_t c = 0; c < cycles && !sim.failed(); ++c) {
     if (rng.chance(0.0005)) {
       sim.async_reset();
@@ -131,7 +133,7 @@ void run(uint64_t seed, uint64_t cycles) {
     dut.eval();
 
     // Before the edge: the strobes and write data of this edge, the stored values.
-    model.begin_edge(in);
+    model.begin_edge(in, hw);
     std::array<uint32_t, kReg2HwWords> rtl_words{}, model_words{};
     to_words(dut.reg2hw_o, rtl_words.data(), kReg2HwWords);
     rbtest::stream::pack_reg2hw(model.reg2hw(), model_words.data());
@@ -157,17 +159,19 @@ void run(uint64_t seed, uint64_t cycles) {
     if (out.bvalid && in.bready && out.bresp == 0) ++okay_writes;
     if (model.irq_rise()) ++irq_rises;
     if (model.reg2hw().port.re) ++ext_reads;
+    if (model.reg2hw().ram.re) ++store_reads;
   }
   std::printf(
       "[cosim] %s: %llu cycles, %llu checks, %llu OKAY reads, %llu OKAY writes, "
-      "%llu irq rises, %llu PORT read strobes\n",
+      "%llu irq rises, %llu PORT read strobes, %llu ram port reads\n",
       kConfig.name, static_cast<unsigned long long>(sim.cycle()),
       static_cast<unsigned long long>(sim.checks()), static_cast<unsigned long long>(okay_reads),
       static_cast<unsigned long long>(okay_writes), static_cast<unsigned long long>(irq_rises),
-      static_cast<unsigned long long>(ext_reads));
+      static_cast<unsigned long long>(ext_reads), static_cast<unsigned long long>(store_reads));
   EXPECT_GT(okay_reads, 1000u);
   EXPECT_GT(okay_writes, 1000u);
   EXPECT_GT(irq_rises, 10u);
+  EXPECT_GT(store_reads, 100u);
 }
 
 TEST(RegblockCosim, EveryOutputBitEveryCycle) {

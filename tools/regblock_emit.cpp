@@ -35,9 +35,10 @@ namespace {
 
 // Names that cannot be struct members in SystemVerilog or C++.
 std::string member(const std::string& field_or_reg) {
-  static const char* const kReserved[] = {"class", "default", "int",    "logic", "bit",
-                                          "reg",   "wire",    "struct", "union", "enum",
-                                          "type",  "new",     "delete", "this",  "const"};
+  static const char* const kReserved[] = {
+      "class", "default", "int",   "logic", "bit",    "reg",   "wire",   "struct", "union",
+      "enum",  "type",    "new",   "delete", "this",  "const", "table",  "input",  "output",
+      "begin", "end",     "case",  "module", "assign", "event", "string", "signed", "unsigned"};
   std::string n = lower(field_or_reg);
   for (const char* r : kReserved) {
     if (n == r) return n + "_";
@@ -91,6 +92,7 @@ bool in_reg2hw(const RegMap& m, const Register& r) {
 // hw2reg of a register: ro hardware inputs and w1c set inputs.
 std::vector<const Field*> hw2reg_fields(const Register& r) {
   std::vector<const Field*> out;
+  if (!r.port.empty()) return out;  // served through the port
   for (const Field& f : r.fields) {
     if (f.hw_input() || f.access == "w1c") out.push_back(&f);
   }
@@ -119,6 +121,20 @@ std::string word_of_name(const RegMap& m, const Register& r) {
     e += x.count;
   }
   fail("no register " + r.name);
+}
+
+// The words of port `p`, in index order.
+std::vector<size_t> port_words(const std::vector<Word>& ws, const std::string& p) {
+  std::vector<size_t> out;
+  for (size_t e = 0; e < ws.size(); ++e) {
+    if (ws[e].reg->port == p) out.push_back(e);
+  }
+  return out;
+}
+uint32_t index_bits(size_t words) {
+  uint32_t b = 1;
+  while ((size_t{1} << b) < words) ++b;
+  return b;
 }
 
 std::string width_decl(uint32_t w) {
@@ -150,11 +166,22 @@ std::string sv_regblock_types(const RegMap& m, const std::string& indent) {
     if (has_re(r)) o << indent << "  logic re;  // read strobe (sample edge)\n";
     o << indent << "} " << n << "_reg2hw_" << member(r.name) << "_t;\n";
   }
+  const std::vector<Word> ws = words(m);
+  for (const Port& p : m.ports) {
+    o << indent << "typedef struct packed {\n"
+      << indent << "  " << width_decl(index_bits(port_words(ws, p.name).size()))
+      << " index;  // word of the port (with re)\n"
+      << indent << "  logic re;  // read strobe (sample edge)\n"
+      << indent << "} " << n << "_reg2hw_" << p.name << "_port_t;\n";
+  }
   o << indent << "typedef struct packed {\n";
   for (const Register& r : m.registers) {
     if (in_reg2hw(m, r)) {
       o << indent << "  " << n << "_reg2hw_" << member(r.name) << "_t " << member(r.name) << ";\n";
     }
+  }
+  for (const Port& p : m.ports) {
+    o << indent << "  " << n << "_reg2hw_" << p.name << "_port_t " << p.name << ";\n";
   }
   o << indent << "} " << n << "_reg2hw_t;\n\n";
   for (const Register& r : m.registers) {
@@ -172,11 +199,20 @@ std::string sv_regblock_types(const RegMap& m, const std::string& indent) {
     }
     o << indent << "} " << n << "_hw2reg_" << member(r.name) << "_t;\n";
   }
+  for (const Port& p : m.ports) {
+    o << indent << "typedef struct packed {\n"
+      << indent << "  logic [31:0] data;  // the word, one edge after re\n";
+    if (p.wait) o << indent << "  logic ready;  // 0: hold a read of the port\n";
+    o << indent << "} " << n << "_hw2reg_" << p.name << "_port_t;\n";
+  }
   o << indent << "typedef struct packed {\n";
   for (const Register& r : m.registers) {
     if (!hw2reg_fields(r).empty()) {
       o << indent << "  " << n << "_hw2reg_" << member(r.name) << "_t " << member(r.name) << ";\n";
     }
+  }
+  for (const Port& p : m.ports) {
+    o << indent << "  " << n << "_hw2reg_" << p.name << "_port_t " << p.name << ";\n";
   }
   o << indent << "} " << n << "_hw2reg_t;\n";
   return o.str();
@@ -247,6 +283,35 @@ std::string sv_regblock(const RegMap& m) {
     o << "  logic [" << ext.size() - 1
       << ":0]          rd_ext_q;  // the response is external word k\n";
   }
+  if (!m.ports.empty()) {
+    o << "  logic [" << m.ports.size() - 1
+      << ":0]          rd_port_q;  // the response is port k's data\n";
+  }
+  // Ports: the words of each, the strobe and index, the hold of a waiting port.
+  o << "\n  // Read ports: a read of a port word is served by the hardware (index with\n"
+    << "  // re on the sample edge, the word one edge later); a port that is not ready\n"
+    << "  // holds the read in the sample stage.\n  logic rd_stall;\n";
+  std::string stall;
+  for (size_t k = 0; k < m.ports.size(); ++k) {
+    const Port& p = m.ports[k];
+    const auto pw = port_words(ws, p.name);
+    const uint32_t ib = index_bits(pw.size());
+    o << "  logic rd_in_" << p.name << ";\n  logic [" << ib - 1 << ":0] " << p.name
+      << "_index;\n  always_comb begin\n    rd_in_" << p.name << " = 1'b0;\n    " << p.name
+      << "_index = '0;\n";
+    for (size_t i = 0; i < pw.size(); ++i) {
+      o << "    if (rd_sel_q[" << pw[i] << "]) begin\n      rd_in_" << p.name << " = 1'b1;\n      "
+        << p.name << "_index = " << ib << "'d" << i << ";\n    end\n";
+    }
+    o << "  end\n";
+    if (p.wait) {
+      stall += std::string(stall.empty() ? "" : " | ") + "(rd_in_" + p.name + " & ~hw2reg_i." +
+               p.name + ".ready)";
+    }
+  }
+  o << "  assign rd_stall = (rd_stage_q == 2'd1) & " << (stall.empty() ? "1'b0" : "(" + stall + ")")
+    << ";\n";
+
   o << "\n  logic                aw_hs, b_hs, ar_hs, r_hs, rd_sample;\n"
     << "  logic [AddrBits-1:0] wr_addr, ar_addr;\n"
     << "  logic [31:0]         wdata;\n"
@@ -255,7 +320,7 @@ std::string sv_regblock(const RegMap& m) {
     << "  assign b_hs      = bvalid_q & s_axil_bready_i;\n"
     << "  assign ar_hs     = arready_q & s_axil_arvalid_i;\n"
     << "  assign r_hs      = rvalid_q & s_axil_rready_i;\n"
-    << "  assign rd_sample = rd_stage_q == 2'd1;\n"
+    << "  assign rd_sample = (rd_stage_q == 2'd1) & ~rd_stall;\n"
     << "  assign wr_addr   = s_axil_awaddr_i[AddrBits-1:0];\n"
     << "  assign ar_addr   = s_axil_araddr_i[AddrBits-1:0];\n"
     << "  assign wdata     = s_axil_wdata_i;\n\n";
@@ -363,6 +428,11 @@ std::string sv_regblock(const RegMap& m) {
     if (has_re(r)) o << "  assign " << base << ".re = re_" << member(r.name) << ";\n";
   }
 
+  for (const Port& p : m.ports) {
+    o << "  assign reg2hw_o." << p.name << ".re    = rd_sample & rd_in_" << p.name << ";\n"
+      << "  assign reg2hw_o." << p.name << ".index = " << p.name << "_index;\n";
+  }
+
   // Interrupt.
   if (!m.interrupts.state.empty()) {
     const Register& st = m.reg(m.interrupts.state);
@@ -397,7 +467,7 @@ std::string sv_regblock(const RegMap& m) {
       std::string v;
       if (stored(f)) {
         v = member(r.name) + "_" + member(f.name) + "_q";
-      } else if (f.hw_input() && !r.external) {
+      } else if (f.hw_input() && !r.external && r.port.empty()) {
         v = "hw2reg_i." + member(r.name) + "." + member(f.name) +
             (r.count > 1 ? "[" + std::to_string(ws[e].index) + "]" : "");
       } else {
@@ -419,6 +489,7 @@ std::string sv_regblock(const RegMap& m) {
     << "      rresp_q    <= RespOkay;\n      rd_stage_q <= 2'd0;\n      rd_sel_q   <= '0;\n"
     << "      rd_data_q  <= '0;\n      rd_resp_q  <= RespOkay;\n";
   if (!ext.empty()) o << "      rd_ext_q   <= '0;\n";
+  if (!m.ports.empty()) o << "      rd_port_q  <= '0;\n";
   o << "    end else begin\n"
     << "      // Write: AW and W are taken together, one write at a time.\n"
     << "      if (aw_hs) begin\n        awready_q <= 1'b0;\n        bvalid_q  <= 1'b1;\n"
@@ -437,20 +508,27 @@ std::string sv_regblock(const RegMap& m) {
     }
     o << "};\n";
   }
-  o << "        rd_stage_q <= 2'd2;\n      end else if (rd_stage_q == 2'd2) begin\n"
-    << "        rvalid_q   <= 1'b1;\n";
-  if (ext.empty()) {
-    o << "        rdata_q    <= rd_data_q;\n";
-  } else {
-    o << "        rdata_q    <= rd_data_q";
-    for (size_t k = 0; k < ext.size(); ++k) {
-      const Register& r = *ws[ext[k]].reg;
-      const Field& f = r.fields[0];
-      o << "\n                    | ({32{rd_ext_q[" << k << "]}} & (32'(hw2reg_i." << member(r.name)
-        << "." << member(f.name) << ") << " << f.lsb << "))";
+  if (!m.ports.empty()) {
+    o << "        rd_port_q  <= {";
+    for (size_t k = m.ports.size(); k-- > 0;) {
+      o << "rd_in_" << m.ports[k].name << (k ? ", " : "");
     }
-    o << ";\n";
+    o << "};\n";
   }
+  o << "        rd_stage_q <= 2'd2;\n      end else if (rd_stage_q == 2'd2) begin\n"
+    << "        rvalid_q   <= 1'b1;\n"
+    << "        rdata_q    <= rd_data_q";
+  for (size_t k = 0; k < ext.size(); ++k) {
+    const Register& r = *ws[ext[k]].reg;
+    const Field& f = r.fields[0];
+    o << "\n                    | ({32{rd_ext_q[" << k << "]}} & (32'(hw2reg_i." << member(r.name)
+      << "." << member(f.name) << ") << " << f.lsb << "))";
+  }
+  for (size_t k = 0; k < m.ports.size(); ++k) {
+    o << "\n                    | ({32{rd_port_q[" << k << "]}} & hw2reg_i." << m.ports[k].name
+      << ".data)";
+  }
+  o << ";\n";
   o << "        rresp_q    <= rd_resp_q;\n        rd_stage_q <= 2'd3;\n      end\n"
     << "      if (r_hs) begin\n        rvalid_q   <= 1'b0;\n        rdata_q    <= '0;\n"
     << "        rresp_q    <= RespOkay;\n        arready_q  <= 1'b1;\n"
@@ -482,6 +560,13 @@ struct Bits {
 std::vector<Bits> reg2hw_layout(const RegMap& m) {
   std::vector<Bits> out;
   uint32_t lsb = 0;
+  const std::vector<Word> ws = words(m);
+  for (auto p = m.ports.rbegin(); p != m.ports.rend(); ++p) {  // after the registers
+    out.push_back({p->name + ".re", lsb++, 1, true});
+    const uint32_t ib = index_bits(port_words(ws, p->name).size());
+    out.push_back({p->name + ".index", lsb, ib, false});
+    lsb += ib;
+  }
   for (auto r = m.registers.rbegin(); r != m.registers.rend(); ++r) {
     if (!in_reg2hw(m, *r)) continue;
     const std::string base = member(r->name) + ".";
@@ -498,6 +583,11 @@ std::vector<Bits> reg2hw_layout(const RegMap& m) {
 std::vector<Bits> hw2reg_layout(const RegMap& m) {
   std::vector<Bits> out;
   uint32_t lsb = 0;
+  for (auto p = m.ports.rbegin(); p != m.ports.rend(); ++p) {  // after the registers
+    if (p->wait) out.push_back({p->name + ".ready", lsb++, 1, true});
+    out.push_back({p->name + ".data", lsb, 32, false});
+    lsb += 32;
+  }
   for (auto r = m.registers.rbegin(); r != m.registers.rend(); ++r) {
     const auto fields = hw2reg_fields(*r);
     for (auto f = fields.rbegin(); f != fields.rend(); ++f) {
@@ -549,6 +639,10 @@ std::string cpp_regblock(const RegMap& m) {
     if (has_re(r)) o << "    bool re = false;\n";
     o << "  } " << member(r.name) << ";\n";
   }
+  for (const Port& p : m.ports) {
+    o << "  struct {\n    uint32_t index = 0;  // word of the port (with re)\n"
+      << "    bool re = false;\n  } " << p.name << ";\n";
+  }
   o << "};\n\n"
     << "// Design -> register block: ro values and w1c set bits, as they are before\n"
     << "// the edge (an external register's value: one edge after its read strobe).\n"
@@ -566,6 +660,11 @@ std::string cpp_regblock(const RegMap& m) {
     }
     o << "  } " << member(r.name) << ";\n";
   }
+  for (const Port& p : m.ports) {
+    o << "  struct {\n    uint32_t data = 0;  // the word, one edge after re\n";
+    if (p.wait) o << "    bool ready = false;  // false: hold a read of the port\n";
+    o << "  } " << p.name << ";\n";
+  }
   o << "};\n\n";
 
   // Class.
@@ -582,11 +681,12 @@ std::string cpp_regblock(const RegMap& m) {
   }
   o << "    out_ = AxiLiteOut{};\n    out_.arready = true;\n    rd_stage_q_ = 0;\n"
     << "    rd_word_q_ = -1;\n    rd_data_q_ = 0;\n    rd_resp_q_ = regs::kRespOkay;\n"
-    << "    rd_ext_q_ = -1;\n    wr_word_ = -1;\n    wr_err_ = false;\n    irq_rise_ = false;\n  "
+    << "    rd_ext_q_ = -1;\n    rd_port_q_ = -1;\n    sampling_ = false;\n    wr_word_ = -1;\n    wr_err_ = false;\n    irq_rise_ = false;\n  "
        "}\n\n"
     << "  // First half of an edge, from the bus inputs and the state before it: the\n"
-    << "  // write decode and the strobes and write data of reg2hw().\n"
-    << "  void begin_edge(const AxiLiteIn& in) {\n";
+    << "  // write decode and the strobes and write data of reg2hw(). Of `hw` only the\n"
+    << "  // ports' ready bits are used (they decide whether a read is held).\n"
+    << "  void begin_edge(const AxiLiteIn& in, [[maybe_unused]] const Hw2Reg& hw) {\n";
   for (const Register& r : m.registers) {
     if (has_we(m, r)) o << "    reg2hw_." << member(r.name) << ".we = false;\n";
     if (has_re(r)) o << "    reg2hw_." << member(r.name) << ".re = false;\n";
@@ -613,7 +713,19 @@ std::string cpp_regblock(const RegMap& m) {
       << "        reg2hw_." << member(r.name) << ".we = true;\n        break;\n";
   }
   o << "      default:\n        break;\n    }\n"
-    << "    if (rd_stage_q_ == 1) {\n      switch (rd_word_q_) {\n";
+    << "    // Ports: the index of the word in flight; a port that is not ready holds it.\n"
+    << "    sampling_ = rd_stage_q_ == 1;\n";
+  for (const Port& p : m.ports) {
+    o << "    {\n      const int k = port_index(" << &p - &m.ports[0] << ", rd_word_q_);\n"
+      << "      reg2hw_." << p.name << ".index = k >= 0 ? static_cast<uint32_t>(k) : 0u;\n";
+    if (p.wait) o << "      if (k >= 0 && !hw." << p.name << ".ready) sampling_ = false;\n";
+    o << "    }\n";
+  }
+  for (const Port& p : m.ports) {
+    o << "    reg2hw_." << p.name << ".re = sampling_ && port_index(" << &p - &m.ports[0]
+      << ", rd_word_q_) >= 0;\n";
+  }
+  o << "    if (sampling_) {\n      switch (rd_word_q_) {\n";
   for (size_t e = 0; e < ws.size(); ++e) {
     const Register& r = *ws[e].reg;
     if (!has_re(r)) continue;
@@ -623,7 +735,7 @@ std::string cpp_regblock(const RegMap& m) {
   o << "        default:\n          break;\n      }\n    }\n  }\n\n"
     << "  // This edge samples a read: its value comes from the hardware inputs,\n"
     << "  // which the caller fills before commit().\n"
-    << "  bool read_sampling() const { return rd_stage_q_ == 1; }\n\n"
+    << "  bool read_sampling() const { return sampling_; }\n\n"
     << "  // The edge itself (after begin_edge() with the same inputs).\n"
     << "  void commit(const AxiLiteIn& in, const Hw2Reg& hw) {\n"
     << "    const uint32_t wdata = in.wdata;\n"
@@ -631,7 +743,7 @@ std::string cpp_regblock(const RegMap& m) {
     << "    const bool ar_hs = out_.arready && in.arvalid;\n"
     << "    const bool r_hs = out_.rvalid && in.rready;\n"
     << "    uint32_t rd_value = 0;\n"
-    << "    if (rd_stage_q_ == 1 && rd_word_q_ >= 0) rd_value = read_word(rd_word_q_, hw);\n\n";
+    << "    if (sampling_ && rd_word_q_ >= 0) rd_value = read_word(rd_word_q_, hw);\n\n";
   // Stored fields: next values.
   for (const Register& r : m.registers) {
     for (const Field& f : r.fields) {
@@ -691,11 +803,14 @@ std::string cpp_regblock(const RegMap& m) {
     << "      out_.awready = out_.wready = true;\n    }\n"
     << "    if (b_hs) {\n      out_.bvalid = false;\n      out_.bresp = regs::kRespOkay;\n    }\n"
     << "    // Read channel: one read in flight.\n"
-    << "    if (rd_stage_q_ == 1) {\n      rd_data_q_ = rd_value;\n"
+    << "    if (sampling_) {\n      rd_data_q_ = rd_value;\n"
     << "      rd_resp_q_ = rd_word_q_ >= 0 ? regs::kRespOkay : regs::kRespSlvErr;\n"
     << "      rd_ext_q_ = rd_word_q_ >= 0 && external(rd_word_q_) ? rd_word_q_ : -1;\n"
+    << "      rd_port_q_ = port_of(rd_word_q_);\n"
     << "      rd_stage_q_ = 2;\n    } else if (rd_stage_q_ == 2) {\n      out_.rvalid = true;\n"
-    << "      out_.rdata = rd_ext_q_ >= 0 ? read_external(rd_ext_q_, hw) : rd_data_q_;\n"
+    << "      out_.rdata = rd_ext_q_ >= 0    ? read_external(rd_ext_q_, hw)\n"
+    << "                   : rd_port_q_ >= 0 ? port_data(rd_port_q_, hw)\n"
+    << "                                     : rd_data_q_;\n"
     << "      out_.rresp = rd_resp_q_;\n      rd_stage_q_ = 3;\n    }\n"
     << "    if (r_hs) {\n      out_.rvalid = false;\n      out_.rdata = 0;\n"
     << "      out_.rresp = regs::kRespOkay;\n      out_.arready = true;\n      rd_stage_q_ = 0;\n  "
@@ -743,6 +858,29 @@ std::string cpp_regblock(const RegMap& m) {
     if (writable(*ws[e].reg)) o << "      case " << e << ":\n";
   }
   o << "        return true;\n      default:\n        return false;\n    }\n  }\n"
+    << "  // Index of `word` in port `port`, or -1.\n"
+    << "  static int port_index([[maybe_unused]] int port, [[maybe_unused]] int word) {\n";
+  for (size_t k = 0; k < m.ports.size(); ++k) {
+    const auto pw = port_words(ws, m.ports[k].name);
+    o << "    if (port == " << k << ") {\n      switch (word) {\n";
+    for (size_t i = 0; i < pw.size(); ++i) {
+      o << "        case " << pw[i] << ":\n          return " << i << ";\n";
+    }
+    o << "        default:\n          return -1;\n      }\n    }\n";
+  }
+  o << "    return -1;\n  }\n"
+    << "  // The port `word` belongs to, or -1.\n"
+    << "  static int port_of([[maybe_unused]] int word) {\n";
+  for (size_t k = 0; k < m.ports.size(); ++k) {
+    o << "    if (port_index(" << k << ", word) >= 0) return " << k << ";\n";
+  }
+  o << "    return -1;\n  }\n"
+    << "  static uint32_t port_data([[maybe_unused]] int port, [[maybe_unused]] const Hw2Reg& hw) "
+       "{\n";
+  for (size_t k = 0; k < m.ports.size(); ++k) {
+    o << "    if (port == " << k << ") return hw." << m.ports[k].name << ".data;\n";
+  }
+  o << "    return 0;\n  }\n"
     << "  static bool external(int word) {\n    switch (word) {\n";
   bool any_ext = false;
   for (size_t e = 0; e < ws.size(); ++e) {
@@ -778,7 +916,7 @@ std::string cpp_regblock(const RegMap& m) {
       std::string x;
       if (stored(f)) {
         x = member(r.name) + "_" + member(f.name) + "_q_";
-      } else if (f.hw_input() && !r.external) {
+      } else if (f.hw_input() && !r.external && r.port.empty()) {
         x = "hw." + member(r.name) + "." + member(f.name) +
             (r.count > 1 ? "[" + std::to_string(ws[e].index) + "]" : "");
       } else {
@@ -801,7 +939,8 @@ std::string cpp_regblock(const RegMap& m) {
     << "  int wr_word_ = -1;\n  uint8_t rd_stage_q_ = 0;  // 0 idle, 1 sample, 2 respond, 3 "
        "rvalid\n"
     << "  int rd_word_q_ = -1;\n  uint32_t rd_data_q_ = 0;\n  uint8_t rd_resp_q_ = 0;\n"
-    << "  int rd_ext_q_ = -1;\n  bool irq_rise_ = false;\n};\n\n"
+    << "  int rd_ext_q_ = -1;\n  int rd_port_q_ = -1;\n  bool sampling_ = false;\n"
+    << "  bool irq_rise_ = false;\n};\n\n"
     << "// The packed struct ports of the SV block as 32-bit words (word 0 = bits\n"
     << "// 31:0), for harnesses that drive both: first member = most significant.\n";
   const auto h2r = hw2reg_layout(m);

@@ -117,6 +117,14 @@ RegMap parse(const json& j) {
     eff.desc = e.value("desc", "");
     m.effects.push_back(eff);
   }
+  for (const json& pj : j.value("ports", json::array())) {
+    Port port{pj.at("name").get<std::string>(), pj.value("wait", false), pj.value("desc", "")};
+    if (port.name.empty() || !std::islower(static_cast<unsigned char>(port.name[0]))) {
+      fail("bad port name " + port.name);
+    }
+    if (m.port(port.name) != nullptr) fail("port " + port.name + " defined twice");
+    m.ports.push_back(port);
+  }
   for (const json& r : j.at("registers")) {
     Register reg;
     reg.name = r.at("name").get<std::string>();
@@ -138,6 +146,8 @@ RegMap parse(const json& j) {
       if (e != "none" && m.effect(e) == nullptr) fail(where + ": unknown side effect " + e);
     }
     reg.external = r.value("external", false);
+    reg.port = r.value("port", "");
+    if (!reg.port.empty() && m.port(reg.port) == nullptr) fail(where + ": unknown port " + reg.port);
     uint32_t used = 0;
     for (const json& fj : r.at("fields")) {
       Field f;
@@ -188,10 +198,22 @@ RegMap parse(const json& j) {
     if (r.count > 1 && (r.has_access("rw") || r.has_access("wo") || r.has_access("w1c"))) {
       fail(where + ": an array may hold ro fields only");
     }
+    if (!r.port.empty()) {
+      const bool all_inputs = std::all_of(r.fields.begin(), r.fields.end(),
+                                          [](const Field& f) { return f.hw_input(); });
+      if (!all_inputs || r.external) {
+        fail(where + ": a port register has ro hardware fields only and is not external");
+      }
+    }
     if (r.external) {
       if (r.count > 1 || r.fields.size() != 1 || !r.fields[0].hw_input()) {
         fail(where + ": an external register is one register with one ro hardware field");
       }
+    }
+  }
+  for (const Port& p : m.ports) {
+    for (const Register& r : m.registers) {
+      if (lower(r.name) == p.name) fail("port " + p.name + " has a register's name");
     }
   }
   for (const Effect& e : m.effects) {
@@ -248,6 +270,12 @@ const Register& RegMap::reg(const std::string& reg_name) const {
                                [&](const Register& r) { return r.name == reg_name; });
   if (it == registers.end()) fail("no register " + reg_name);
   return *it;
+}
+
+const Port* RegMap::port(const std::string& port_name) const {
+  const auto it =
+      std::find_if(ports.begin(), ports.end(), [&](const Port& p) { return p.name == port_name; });
+  return it == ports.end() ? nullptr : &*it;
 }
 
 const Effect* RegMap::effect(const std::string& effect_name) const {

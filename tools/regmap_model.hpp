@@ -48,6 +48,8 @@ struct Register {
   // The value is not held by the register block: it is the hardware input
   // one edge after the read strobe (a block's synchronous read port).
   bool external = false;
+  // The register is a word of a read port (see Port) instead of a field input.
+  std::string port;
   std::vector<Field> fields;
 
   bool has_access(const std::string& access) const { return mask_of(access) != 0; }
@@ -102,6 +104,16 @@ struct Effect {
   std::string desc;
 };
 
+// A read port: registers whose words the hardware serves from its own store
+// (a RAM): the register block strobes the port with the word's index on the
+// sample edge and takes the 32-bit word one edge later. With `wait`, the
+// hardware can hold a read (ready = 0) until its store is consistent.
+struct Port {
+  std::string name;
+  bool wait = false;
+  std::string desc;
+};
+
 // The interrupt registers: state (w1c, hardware-set), enable (rw) and test
 // (wo, sets state), with the same fields; irq = |(state & enable).
 struct Interrupts {
@@ -119,10 +131,12 @@ struct RegMap {
   std::vector<Config> configs;
   std::vector<Register> registers;
   std::vector<Effect> effects;
+  std::vector<Port> ports;
   Interrupts interrupts;  // names empty if the map has no interrupt
 
   const Register& reg(const std::string& name) const;
   const Effect* effect(const std::string& name) const;
+  const Port* port(const std::string& name) const;
 };
 
 [[noreturn]] void fail(const std::string& msg);
