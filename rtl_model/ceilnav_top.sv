@@ -97,7 +97,8 @@ module ceilnav_top #(
   logic                 soft_rst_q;     // datapath held in reset
   logic [5:0]           err_lsb_prev_q;  // bit 0 of each frame_check counter, one edge old
   logic [31:0]          trailers_lost_prev_q;
-  logic [31:0]          cycle_q, frame_count_q, eof_edge_q, eof_to_irq_q;
+  logic [31:0]          frame_count_q, eof_to_irq_q;
+  logic [31:0]          eof_age_q;  // EOF_TO_IRQ_CYCLES if irq rose on the next edge
 
   // ---------------------------------------------------------------------------
   // Datapath
@@ -107,10 +108,11 @@ module ceilnav_top #(
   logic [111:0]             pipe_tdata;
   logic [22:0]              hist_rd_data;
   logic                     frame_done, res_valid;
-  logic [31:0]              res_frame_index, res_cycles, res_emitted, res_row_limit;
-  logic [31:0]              res_overflow, res_high_water;
-  logic [6*32-1:0]          res_errors, errors;
-  logic [6*64-1:0]          res_grey, res_mask;
+  logic [6*32-1:0]          errors;
+  logic                     res_wr_valid, res_bank, res_overflow_nonzero;
+  logic [7:0]               res_wr_addr;
+  logic [31:0]              res_wr_data;
+  logic                     mom_wr_valid;
   logic [18*64-1:0]         res_class;
   logic [31:0]              frames_overrun, trailers_lost;
   logic [FifoCountBits-1:0] fifo_occupancy;
@@ -155,15 +157,12 @@ module ceilnav_top #(
     .hist_rd_data_o              (hist_rd_data),
     .frame_done_o                (frame_done),
     .res_valid_o                 (res_valid),
-    .res_frame_index_o           (res_frame_index),
-    .res_cycles_in_frame_o       (res_cycles),
-    .res_runs_emitted_o          (res_emitted),
-    .res_runs_dropped_row_limit_o(res_row_limit),
-    .res_runs_dropped_overflow_o (res_overflow),
-    .res_fifo_high_water_o       (res_high_water),
-    .res_errors_o                (res_errors),
-    .res_mom_grey_o              (res_grey),
-    .res_mom_mask_o              (res_mask),
+    .res_wr_valid_o              (res_wr_valid),
+    .res_wr_addr_o               (res_wr_addr),
+    .res_wr_data_o               (res_wr_data),
+    .res_bank_o                  (res_bank),
+    .res_overflow_nonzero_o      (res_overflow_nonzero),
+    .mom_wr_valid_o              (mom_wr_valid),
     .res_class_mom_o             (res_class),
     .errors_o                    (errors),
     .frames_overrun_o            (frames_overrun),
@@ -198,8 +197,44 @@ module ceilnav_top #(
   // EOL error always leaves frame_check discarding (the frame aborted, or its
   // SOF pixel rejected before it opened).
   assign frame_closed = eof_seen | (err_changed[5] & ~err_changed[2]) | (|err_changed[1:0]);
-  assign events_run_overflow = (frame_done & (res_overflow != 32'd0)) |
+  assign events_run_overflow = (frame_done & res_overflow_nonzero) |
                                (trailers_lost != trailers_lost_prev_q);
+
+  // ---------------------------------------------------------------------------
+  // Result store: the published set's moments and frame meta as register words
+  // in one BRAM pair, written by the pipeline (docs/blocks/pipeline.md, "Result
+  // store"): the moments in the 24 cycles after each publication (the register
+  // block holds a read of MOM_* meanwhile: hw2reg.moments.ready), the meta into
+  // the unpublished bank before the publication flips it. Before the first
+  // publication (and after a soft reset) the set reads 0: the word read is
+  // masked with RESULTS_VALID as it was on the read edge.
+  localparam int unsigned StoreWords = 256;  // one iCE40 BRAM pair (256 x 32)
+  localparam logic [7:0] StoreMetaBase = 8'd32;
+  logic [31:0] res_store [StoreWords];
+  logic [31:0] store_rd_q;
+  logic        store_rd_valid_q, store_re;
+  logic [7:0]  store_rd_addr;
+
+  assign store_re      = reg2hw.moments.re | reg2hw.meta.re;
+  assign store_rd_addr = reg2hw.meta.re ? StoreMetaBase + {3'd0, res_bank, reg2hw.meta.index}
+                                        : 8'(reg2hw.moments.index);
+
+  always_ff @(posedge clk_i) begin
+    if (res_wr_valid) begin
+      res_store[res_wr_addr] <= res_wr_data;
+    end
+    if (store_re) begin
+      store_rd_q <= res_store[store_rd_addr];
+    end
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      store_rd_valid_q <= 1'b0;
+    end else if (store_re) begin
+      store_rd_valid_q <= res_valid;
+    end
+  end
 
   // ---------------------------------------------------------------------------
   // hw2reg: what the registers read, and the interrupt / error-cause events.
@@ -220,28 +255,17 @@ module ceilnav_top #(
     hw2reg.hist_data.count        = hist_rd_data;
     hw2reg.run_fifo_level.value   = 16'(fifo_occupancy) + 16'(pipe_tvalid);
     hw2reg.run_fifo_depth.value   = 16'(RunFifoDepth);
-    // The run window: the head entry of the run FIFO (pack_run_beat layout), 0 if none.
+    // The run window: the head entry of the run FIFO (pack_run_beat layout; the
+    // run scanner drives tdata and tlast to 0 without tvalid).
     hw2reg.run_word0.valid        = pipe_tvalid;
-    hw2reg.run_word0.last         = pipe_tvalid & pipe_tlast;
-    hw2reg.run_word0.row          = pipe_tvalid ? pipe_tdata[15:0] : 16'd0;
-    hw2reg.run_word1.x_start      = pipe_tvalid ? pipe_tdata[31:16] : 16'd0;
-    hw2reg.run_word1.x_end        = pipe_tvalid ? pipe_tdata[111:96] : 16'd0;
-    hw2reg.run_word2.sum_w        = pipe_tvalid ? pipe_tdata[50:32] : 19'd0;
-    hw2reg.run_word3.sum_xw       = pipe_tvalid ? pipe_tdata[92:64] : 29'd0;
-    hw2reg.res_frame_index.value  = res_frame_index;
+    hw2reg.run_word0.last         = pipe_tlast;
+    hw2reg.run_word0.row          = pipe_tdata[15:0];
+    hw2reg.run_word1.x_start      = pipe_tdata[31:16];
+    hw2reg.run_word1.x_end        = pipe_tdata[111:96];
+    hw2reg.run_word2.sum_w        = pipe_tdata[50:32];
+    hw2reg.run_word3.sum_xw       = pipe_tdata[92:64];
     hw2reg.frame_count.value      = frame_count_q;
-    hw2reg.cycles_per_frame.value = res_cycles;
     hw2reg.eof_to_irq_cycles.value = eof_to_irq_q;
-    hw2reg.runs_emitted.value     = res_emitted;
-    hw2reg.runs_dropped_row_limit.value = res_row_limit;
-    hw2reg.runs_dropped_overflow.value  = res_overflow;
-    hw2reg.run_fifo_high_water.value    = res_high_water;
-    hw2reg.res_early_eol.value      = res_errors[0*32 +: 32];
-    hw2reg.res_late_eol.value       = res_errors[1*32 +: 32];
-    hw2reg.res_early_sof.value      = res_errors[2*32 +: 32];
-    hw2reg.res_missing_sof.value    = res_errors[3*32 +: 32];
-    hw2reg.res_frames_ok.value      = res_errors[4*32 +: 32];
-    hw2reg.res_frames_aborted.value = res_errors[5*32 +: 32];
     hw2reg.cnt_early_eol.value      = errors[0*32 +: 32];
     hw2reg.cnt_late_eol.value       = errors[1*32 +: 32];
     hw2reg.cnt_early_sof.value      = errors[2*32 +: 32];
@@ -250,13 +274,11 @@ module ceilnav_top #(
     hw2reg.cnt_frames_aborted.value = errors[5*32 +: 32];
     hw2reg.run_trailers_lost.value  = trailers_lost;
     hw2reg.frames_overrun.value     = frames_overrun;
-    // MOM_*[i], CLASS_MOM_*[i] (i = 6 (c - 1) + k): the 64-bit moments in two words.
-    for (int unsigned i = 0; i < 6; i++) begin
-      hw2reg.mom_grey_lo.value[i] = res_grey[64*i +: 32];
-      hw2reg.mom_grey_hi.value[i] = res_grey[64*i+32 +: 32];
-      hw2reg.mom_mask_lo.value[i] = res_mask[64*i +: 32];
-      hw2reg.mom_mask_hi.value[i] = res_mask[64*i+32 +: 32];
-    end
+    // MOM_*: the result store (below); CLASS_MOM_*[i] (i = 6 (c - 1) + k): the
+    // 64-bit moments in two words.
+    hw2reg.moments.data  = store_rd_q & {32{store_rd_valid_q}};
+    hw2reg.moments.ready = ~mom_wr_valid;
+    hw2reg.meta.data     = store_rd_q & {32{store_rd_valid_q}};
     for (int unsigned i = 0; i < 18; i++) begin
       hw2reg.class_mom_lo.value[i] = res_class[64*i +: 32];
       hw2reg.class_mom_hi.value[i] = res_class[64*i+32 +: 32];
@@ -275,9 +297,8 @@ module ceilnav_top #(
       soft_rst_q           <= 1'b0;
       err_lsb_prev_q       <= '0;
       trailers_lost_prev_q <= '0;
-      cycle_q              <= '0;
       frame_count_q        <= '0;
-      eof_edge_q           <= '0;
+      eof_age_q            <= '0;
       eof_to_irq_q         <= '0;
     end else begin
       // LUT write port: the entry LUT_INDEX pointed at before the write.
@@ -290,14 +311,14 @@ module ceilnav_top #(
 
       // Status and counters
       if (irq_rise) begin
-        eof_to_irq_q <= cycle_q - eof_edge_q;
+        eof_to_irq_q <= eof_age_q;
       end
       if (frame_done) begin
         frame_count_q <= frame_count_q + 32'd1;
       end
-      if (eof_seen) begin
-        eof_edge_q <= cycle_q - 32'd1;
-      end
+      // Edges from the one that accepted the last good EOF pixel (eof_seen is
+      // one edge later), or from the last reset.
+      eof_age_q <= eof_seen ? 32'd2 : eof_age_q + 32'd1;
       if (pass && s_axis_video_tuser_i && !soft_rst_q) begin
         in_frame_q <= 1'b1;
       end else if (frame_closed) begin
@@ -314,7 +335,6 @@ module ceilnav_top #(
       end
       err_lsb_prev_q       <= err_lsb;
       trailers_lost_prev_q <= trailers_lost;
-      cycle_q              <= cycle_q + 32'd1;
       soft_rst_q           <= soft_reset;
 
       // A soft reset clears what the datapath reset clears on the top level.
@@ -324,7 +344,7 @@ module ceilnav_top #(
         err_lsb_prev_q       <= '0;
         trailers_lost_prev_q <= '0;
         frame_count_q        <= '0;
-        eof_edge_q           <= '0;
+        eof_age_q            <= '0;
         eof_to_irq_q         <= '0;
       end
     end

@@ -27,18 +27,14 @@ module moment_gen (
   output logic        done_o,          // one-cycle pulse: the moment outputs were just updated
   output logic        done_next_o,     // done_o rises on the next edge (Moore)
   output logic        eof_accept_o,    // the EOF beat on the input is taken (Mealy)
-  output logic [29:0] grey_m00_o,
-  output logic [39:0] grey_m10_o,
-  output logic [39:0] grey_m01_o,
-  output logic [50:0] grey_m20_o,
-  output logic [49:0] grey_m11_o,
-  output logic [50:0] grey_m02_o,
-  output logic [22:0] mask_m00_o,
-  output logic [31:0] mask_m10_o,
-  output logic [31:0] mask_m01_o,
-  output logic [42:0] mask_m20_o,
-  output logic [41:0] mask_m11_o,
-  output logic [42:0] mask_m02_o,
+  // The moments as 24 register words, one per edge for 24 edges after the
+  // done edge (mom_wr_valid_o is high with done_o and 23 cycles after): word
+  // index w = 6 * {grey lo, grey hi, mask lo, mask hi} + MomentIndex, i.e. the
+  // MOM_GREY_LO .. MOM_MASK_HI register order. Written into the device's
+  // result store (docs/blocks/moment_gen.md, "Result words").
+  output logic        mom_wr_valid_o,
+  output logic [4:0]  mom_wr_index_o,
+  output logic [31:0] mom_wr_data_o,
   output logic        combine_busy_o,
   output logic [31:0] overrun_count_o
 );
@@ -461,42 +457,73 @@ module moment_gen (
   end
 
   // ---------------------------------------------------------------------------
-  // Outputs: all registered; the moments load from the shift registers on
-  // the done edge.
+  // Result words: on the done edge the 24 words load into a chain of slots
+  // ordered by significant width, widest first (no word is wider than the one
+  // ahead of it, so a shift loses nothing and every slot is only as wide as its
+  // widest possible content: 477 flops, as many as the moments have bits);
+  // the head slot is written out, one word per edge.
+  localparam int unsigned MomWords = 24;
+  localparam int unsigned ChainSlots = 20;  // words of nonzero width
+  // Write order: word index of chain position k at [5*k +: 5] (k = 0 first).
+  localparam logic [MomWords*5-1:0] WordOrder = {
+    5'd20, 5'd19, 5'd18, 5'd6,                  // zero width: grey m00 hi, mask m00/m10/m01 hi
+    5'd8, 5'd7, 5'd22, 5'd23, 5'd21, 5'd10,     // hi words: 8 8 10 11 11 18 bits
+    5'd11, 5'd9, 5'd12, 5'd0,                   // 19 19 bits; mask m00 lo 23; grey m00 lo 30
+    5'd17, 5'd16, 5'd15, 5'd14, 5'd13,          // mask lo words m02..m10: 32 bits
+    5'd5, 5'd4, 5'd3, 5'd2, 5'd1};              // grey lo words m02..m10: 32 bits
+
+  // Word w of the moments in the shift registers (after the last pass step).
+  function automatic logic [31:0] word_value(logic [4:0] w);
+    logic [63:0] m;
+    unique case (w % 6)
+      0: m = (w < 12) ? 64'(gr00_q) : 64'(kr00_q);
+      1: m = (w < 12) ? 64'(gr10_q) : 64'(kr10_q[31:0]);
+      2: m = (w < 12) ? 64'(gr01_q) : 64'(kr01_q[31:0]);
+      3: m = (w < 12) ? 64'(gr20_q) : 64'(kr20_q);
+      4: m = (w < 12) ? 64'(gr11_q) : 64'(kr11_q[41:0]);
+      default: m = (w < 12) ? 64'(gr02_q) : 64'(kr02_q);
+    endcase
+    word_value = ((w / 6) % 2 == 0) ? m[31:0] : m[63:32];
+  endfunction
+
+  logic [ChainSlots*32-1:0]   slot_q;  // slot k at [32*k +: 32]
+  logic                        wr_active_q, done_q;
+  logic [4:0]                  wr_step_q;
+
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      grey_m00_o <= '0;
-      grey_m10_o <= '0;
-      grey_m01_o <= '0;
-      grey_m20_o <= '0;
-      grey_m11_o <= '0;
-      grey_m02_o <= '0;
-      mask_m00_o <= '0;
-      mask_m10_o <= '0;
-      mask_m01_o <= '0;
-      mask_m20_o <= '0;
-      mask_m11_o <= '0;
-      mask_m02_o <= '0;
-      done_o     <= 1'b0;
+      slot_q      <= '0;
+      wr_active_q <= 1'b0;
+      wr_step_q   <= '0;
+      done_q      <= 1'b0;
     end else begin
       if (last_step) begin
-        grey_m00_o <= gr00_q;
-        grey_m10_o <= gr10_q;
-        grey_m01_o <= gr01_q;
-        grey_m20_o <= gr20_q;
-        grey_m11_o <= gr11_q;
-        grey_m02_o <= gr02_q;
-        mask_m00_o <= kr00_q;
-        mask_m10_o <= kr10_q[31:0];
-        mask_m01_o <= kr01_q[31:0];
-        mask_m20_o <= kr20_q;
-        mask_m11_o <= kr11_q[41:0];
-        mask_m02_o <= kr02_q;
+        for (int unsigned k = 0; k < ChainSlots; k++) begin
+          slot_q[32*k +: 32] <= word_value(WordOrder[5*k +: 5]);
+        end
+        wr_active_q <= 1'b1;
+        wr_step_q   <= '0;
+      end else if (wr_active_q) begin
+        slot_q      <= {32'd0, slot_q[ChainSlots*32-1:32]};
+        wr_step_q   <= wr_step_q + 5'd1;
+        wr_active_q <= wr_step_q != 5'(MomWords - 1);
       end
-      done_o <= last_step;
+      done_q <= last_step;
     end
   end
 
+  logic [4:0] step_word;
+  always_comb begin
+    step_word = '0;
+    for (int unsigned k = 0; k < MomWords; k++) begin
+      if (wr_step_q == 5'(k)) step_word = WordOrder[5*k +: 5];
+    end
+  end
+
+  assign done_o          = done_q;
+  assign mom_wr_valid_o  = wr_active_q;
+  assign mom_wr_index_o  = wr_active_q ? step_word : 5'd0;
+  assign mom_wr_data_o   = slot_q[31:0];
   assign combine_busy_o  = busy_q;
   assign done_next_o     = last_step;
   assign eof_accept_o    = accept;

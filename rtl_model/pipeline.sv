@@ -8,8 +8,9 @@
 // (eof_accept_o), the frame meta is staged on edge T and the run stats on
 // edge T+1, and the whole set is published on the edge on which moment_gen
 // raises done_o (its done_next_o is high before it; edge
-// T+MomentGen::kCombineCycles). The moments are not copied: moment_gen's
-// output registers change only on that edge. class_moments takes the same EOF
+// T+MomentGen::kCombineCycles). The moments leave moment_gen as 24 register
+// words in the 24 cycles after that edge (mom_wr_*), into the device's result
+// store, which holds reads of them until the last word is written. class_moments takes the same EOF
 // (its eof_keep_i is moment_gen's eof_accept_o), shows it on edge T+2 and
 // keeps it until the next taken EOF (>= T+kCombineCycles): its outputs are
 // copied into the published set on the publication edge. At most one staged set waits:
@@ -66,15 +67,19 @@ module pipeline #(
   // the first cycle that shows a new set.
   output logic                     frame_done_o,
   output logic                     res_valid_o,
-  output logic [31:0]              res_frame_index_o,
-  output logic [31:0]              res_cycles_in_frame_o,  // saturating
-  output logic [31:0]              res_runs_emitted_o,
-  output logic [31:0]              res_runs_dropped_row_limit_o,
-  output logic [31:0]              res_runs_dropped_overflow_o,
-  output logic [31:0]              res_fifo_high_water_o,
-  output logic [6*32-1:0]          res_errors_o,  // FrameErrorCounters, field i at [32*i +: 32]
-  output logic [6*64-1:0]          res_mom_grey_o,  // MomentIndex i at [64*i +: 64]
-  output logic [6*64-1:0]          res_mom_mask_o,
+  // The published set lives in the device's result store (a 256 x 32 RAM),
+  // written through this port: the moments at 0..23 (register word order,
+  // MomentGen::kMomentWords) in the 24 cycles after each publication edge,
+  // the frame meta (12 words, register order of RES_FRAME_INDEX ..
+  // RES_FRAMES_ABORTED without the live counters) into bank 1 - res_bank_o
+  // at ResMetaBase + 16 * bank while the frame's moments combine; the bank
+  // becomes res_bank_o on the publication edge.
+  output logic                     res_wr_valid_o,
+  output logic [7:0]               res_wr_addr_o,
+  output logic [31:0]              res_wr_data_o,
+  output logic                     res_bank_o,
+  output logic                     res_overflow_nonzero_o,  // published RUNS_DROPPED_OVERFLOW != 0
+  output logic                     mom_wr_valid_o,  // moments being written: reads of them wait
   output logic [18*64-1:0]         res_class_mom_o,  // class c, MomentIndex k at [64*(6*(c-1)+k) +: 64]
 
   // Live status
@@ -190,14 +195,9 @@ module pipeline #(
   // Stage 3: histogram, moment_gen, run_scanner (all sample thresh_lut's output).
   logic [31:0] mom_overrun;
   logic        mom_done, mom_done_next, mom_accept, unused_mom_busy;
-  logic [29:0] g00;
-  logic [39:0] g10, g01;
-  logic [50:0] g20, g02;
-  logic [49:0] g11;
-  logic [22:0] k00;
-  logic [31:0] k10, k01;
-  logic [42:0] k20, k02;
-  logic [41:0] k11;
+  logic        mom_wr_valid;
+  logic [4:0]  mom_wr_index;
+  logic [31:0] mom_wr_data;
   logic        unused_hist_done;
 
   histogram #(
@@ -238,18 +238,9 @@ module pipeline #(
     .done_o         (mom_done),
     .done_next_o    (mom_done_next),
     .eof_accept_o   (mom_accept),
-    .grey_m00_o     (g00),
-    .grey_m10_o     (g10),
-    .grey_m01_o     (g01),
-    .grey_m20_o     (g20),
-    .grey_m11_o     (g11),
-    .grey_m02_o     (g02),
-    .mask_m00_o     (k00),
-    .mask_m10_o     (k10),
-    .mask_m01_o     (k01),
-    .mask_m20_o     (k20),
-    .mask_m11_o     (k11),
-    .mask_m02_o     (k02),
+    .mom_wr_valid_o (mom_wr_valid),
+    .mom_wr_index_o (mom_wr_index),
+    .mom_wr_data_o  (mom_wr_data),
     .combine_busy_o (unused_mom_busy),
     .overrun_count_o(mom_overrun)
   );
@@ -293,14 +284,30 @@ module pipeline #(
   // moves on its edge) is neither staged nor published. (C++ decides by
   // comparing overrun_count before and after the edge: the same, except once
   // the counter has saturated at 2^32 - 1.)
-  localparam int unsigned RunStatBits = 4 * 32;
-  logic                   accept;       // moment_gen takes the stage-3 EOF on this edge
-  logic                   runs_pend_q;  // ... it did on the last edge: stage the run stats
-  logic [MetaBits-1:0]    staged_meta_q, res_meta_q;
-  logic [RunStatBits-1:0] staged_runs_q, res_runs_q;
-  logic                   res_valid_q;
+  // The staged set is a chain of 12 words in write order (frames_ok - 1 is
+  // formed on the write): FRAMES_OK, CYCLES, the six error counters, then the
+  // four run statistics (narrow, last: the chain shifts towards slot 0 and a
+  // slot is only as wide as what can reach it). It loads on the accept edge
+  // (meta) and the next (run stats) and is written into the unpublished bank
+  // while the moments combine, after the previous set's moment words (which
+  // have the write port first): done by accept + 24 + 2 + 12 < kCombineCycles.
+  localparam int unsigned MetaWords = 12;
+  localparam logic [7:0] ResMetaBase = 8'd32;
+  // Port index (RES_FRAME_INDEX, CYCLES_PER_FRAME, RUNS_EMITTED .. RUN_FIFO_HIGH_WATER,
+  // RES_EARLY_EOL .. RES_FRAMES_ABORTED) of chain slot k at [4*k +: 4].
+  localparam logic [MetaWords*4-1:0] MetaOrder = {
+    4'd5, 4'd4, 4'd3, 4'd2, 4'd11, 4'd10, 4'd9, 4'd8, 4'd7, 4'd6, 4'd1, 4'd0};
+  logic                     accept;       // moment_gen takes the stage-3 EOF on this edge
+  logic                     runs_pend_q;  // ... it did on the last edge: stage the run stats
+  logic [MetaWords*32-1:0]  meta_chain_q;  // slot k at [32*k +: 32]
+  logic                     meta_pend_q;   // the chain waits for / is in its writes
+  logic [3:0]               meta_step_q;
+  logic                     meta_wr;
+  logic                     res_valid_q, res_bank_q;
+  logic                     staged_ovf_q, res_ovf_q;
 
-  assign accept = lut_valid & lut_eof & mom_accept;
+  assign accept  = lut_valid & lut_eof & mom_accept;
+  assign meta_wr = meta_pend_q & ~runs_pend_q & ~mom_wr_valid;
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
@@ -309,11 +316,13 @@ module pipeline #(
       frame_cycles_q <= '0;
       meta_lut_q     <= '0;
       runs_pend_q    <= 1'b0;
-      staged_meta_q  <= '0;
-      staged_runs_q  <= '0;
-      res_meta_q     <= '0;
-      res_runs_q     <= '0;
+      meta_chain_q   <= '0;
+      meta_pend_q    <= 1'b0;
+      meta_step_q    <= '0;
       res_valid_q    <= 1'b0;
+      res_bank_q     <= 1'b0;
+      staged_ovf_q   <= 1'b0;
+      res_ovf_q      <= 1'b0;
     end else begin
       if (video_sof) begin
         cfg_fc_q <= cfg_shadow;
@@ -329,31 +338,46 @@ module pipeline #(
       // run_scanner's stats of that frame are final after the same edge.
       runs_pend_q <= accept;
       if (accept) begin
-        staged_meta_q <= meta_lut_q;
+        meta_chain_q[0 +: 8*32] <= {meta_lut_q[0 +: 6*32], meta_lut_q[MetaBits-1 -: 32],
+                                    meta_lut_q[ErrFramesOk*32 +: 32]};
+        meta_pend_q <= 1'b1;
+        meta_step_q <= '0;
+      end else if (meta_wr) begin
+        meta_chain_q <= {32'd0, meta_chain_q[MetaWords*32-1:32]};
+        meta_step_q  <= meta_step_q + 4'd1;
+        meta_pend_q  <= meta_step_q != 4'(MetaWords - 1);
       end
       if (runs_pend_q) begin
-        staged_runs_q <= {rs_high_water, rs_overflow, rs_row_limit, rs_emitted};
+        meta_chain_q[8*32 +: 4*32] <= {rs_high_water, rs_overflow, rs_row_limit, rs_emitted};
+        staged_ovf_q <= rs_overflow != 32'd0;
       end
       if (mom_done_next) begin
-        res_meta_q  <= staged_meta_q;
-        res_runs_q  <= staged_runs_q;
+        res_bank_q  <= ~res_bank_q;
+        res_ovf_q   <= staged_ovf_q;
         res_valid_q <= 1'b1;
       end
     end
   end
 
-  assign frame_done_o                 = mom_done;
-  assign res_valid_o                  = res_valid_q;
-  assign res_frame_index_o            = res_valid_q ?
-                                        res_meta_q[ErrFramesOk*32 +: 32] - 32'd1 : 32'd0;
-  assign res_errors_o                 = res_meta_q[0 +: 6*32];
-  assign res_cycles_in_frame_o        = res_meta_q[MetaBits-1 -: 32];
-  assign res_runs_emitted_o           = res_runs_q[0*32 +: 32];
-  assign res_runs_dropped_row_limit_o = res_runs_q[1*32 +: 32];
-  assign res_runs_dropped_overflow_o  = res_runs_q[2*32 +: 32];
-  assign res_fifo_high_water_o        = res_runs_q[3*32 +: 32];
-  assign res_mom_grey_o = {64'(g02), 64'(g11), 64'(g20), 64'(g01), 64'(g10), 64'(g00)};
-  assign res_mom_mask_o = {64'(k02), 64'(k11), 64'(k20), 64'(k01), 64'(k10), 64'(k00)};
+  // The write port: moment words first, then the meta chain's head.
+  logic [3:0] meta_index;
+  always_comb begin
+    meta_index = '0;
+    for (int unsigned k = 0; k < MetaWords; k++) begin
+      if (meta_step_q == 4'(k)) meta_index = MetaOrder[4*k +: 4];
+    end
+  end
+  assign res_wr_valid_o = mom_wr_valid | meta_wr;
+  assign res_wr_addr_o  = mom_wr_valid ? 8'(mom_wr_index)
+                                       : ResMetaBase + {3'd0, ~res_bank_q, meta_index};
+  assign res_wr_data_o  = mom_wr_valid ? mom_wr_data
+                        : meta_chain_q[31:0] - 32'(meta_step_q == 4'd0);
+
+  assign frame_done_o           = mom_done;
+  assign res_valid_o            = res_valid_q;
+  assign res_bank_o             = res_bank_q;
+  assign res_overflow_nonzero_o = res_ovf_q;
+  assign mom_wr_valid_o         = mom_wr_valid;
   // class_moments (HasClassMoments): the block and its published copy
   // res_class_q, loaded on the publication edge like the rest of the set.
   if (HasClassMoments) begin : g_class

@@ -1,6 +1,7 @@
 #include "stream/ceilnav_top.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 
 namespace ceilnav::stream {
@@ -23,6 +24,27 @@ uint32_t sat32(uint64_t v) {
   return static_cast<uint32_t>(std::min<uint64_t>(v, std::numeric_limits<uint32_t>::max()));
 }
 
+// Word `index` of the result store's meta port: RES_FRAME_INDEX,
+// CYCLES_PER_FRAME, RUNS_EMITTED .. RUN_FIFO_HIGH_WATER, RES_EARLY_EOL ..
+// RES_FRAMES_ABORTED (register order).
+uint32_t meta_word(const FrameResults& res, uint32_t index) {
+  const FrameErrorCounters& e = res.errors;
+  const RunStats& r = res.run_stats;
+  const std::array<uint32_t, 12> words = {res.frame_index,
+                                          sat32(res.cycles_in_frame),
+                                          r.runs_emitted,
+                                          r.runs_dropped_row_limit,
+                                          r.runs_dropped_overflow,
+                                          r.fifo_high_water,
+                                          e.early_eol,
+                                          e.late_eol,
+                                          e.early_sof,
+                                          e.missing_sof,
+                                          e.frames_ok,
+                                          e.frames_aborted};
+  return index < words.size() ? words[index] : 0u;
+}
+
 bool error_counters_differ(const FrameErrorCounters& a, const FrameErrorCounters& b) {
   return a.early_eol != b.early_eol || a.late_eol != b.late_eol || a.early_sof != b.early_sof ||
          a.missing_sof != b.missing_sof || a.frames_aborted != b.frames_aborted;
@@ -42,6 +64,8 @@ void CeilnavTop::reset() {
   hw_ = Hw2Reg{};
   gate_open_q_ = false;
   cycle_q_ = 0;
+  store_rd_q_ = 0;  // the RTL leaves it undefined: it is read masked by store_rd_valid_q_
+  store_rd_valid_q_ = false;
   reset_datapath();
   soft_reset_hold_q_ = false;
 }
@@ -54,7 +78,7 @@ void CeilnavTop::reset_datapath() {
   err_prev_q_ = {};
   trailers_lost_prev_q_ = 0;
   frame_count_q_ = 0;
-  eof_edge_q_ = 0;
+  eof_age_q_ = 0;
   eof_to_irq_q_ = 0;
   push_config();
 }
@@ -95,20 +119,8 @@ void CeilnavTop::fill_read_inputs() {
   h.run_word1 = {run.x_start, run.x_end};
   h.run_word2.sum_w = run.sum_w;
   h.run_word3.sum_xw = static_cast<uint32_t>(run.sum_xw);
-  h.res_frame_index.value = res.frame_index;
   h.frame_count.value = frame_count_q_;
-  h.cycles_per_frame.value = sat32(res.cycles_in_frame);
   h.eof_to_irq_cycles.value = eof_to_irq_q_;
-  h.runs_emitted.value = res.run_stats.runs_emitted;
-  h.runs_dropped_row_limit.value = res.run_stats.runs_dropped_row_limit;
-  h.runs_dropped_overflow.value = res.run_stats.runs_dropped_overflow;
-  h.run_fifo_high_water.value = res.run_stats.fifo_high_water;
-  h.res_early_eol.value = res.errors.early_eol;
-  h.res_late_eol.value = res.errors.late_eol;
-  h.res_early_sof.value = res.errors.early_sof;
-  h.res_missing_sof.value = res.errors.missing_sof;
-  h.res_frames_ok.value = res.errors.frames_ok;
-  h.res_frames_aborted.value = res.errors.frames_aborted;
   h.cnt_early_eol.value = live.early_eol;
   h.cnt_late_eol.value = live.late_eol;
   h.cnt_early_sof.value = live.early_sof;
@@ -117,13 +129,7 @@ void CeilnavTop::fill_read_inputs() {
   h.cnt_frames_aborted.value = live.frames_aborted;
   h.run_trailers_lost.value = pipeline_.run_trailers_lost();
   h.frames_overrun.value = pipeline_.frames_overrun();
-  // MOM_*[i], CLASS_MOM_*[i] (class c = i / 6 + 1, moment k = i % 6): 64-bit moments in two words.
-  for (size_t i = 0; i < kMomentCount; ++i) {
-    h.mom_grey_lo.value[i] = lo(res.moments.grey[i]);
-    h.mom_grey_hi.value[i] = hi(res.moments.grey[i]);
-    h.mom_mask_lo.value[i] = lo(res.moments.mask[i]);
-    h.mom_mask_hi.value[i] = hi(res.moments.mask[i]);
-  }
+  // CLASS_MOM_*[i] (class c = i / 6 + 1, moment k = i % 6): 64-bit moments in two words.
   for (size_t i = 0; i < kMomentClasses * kMomentCount; ++i) {
     const uint64_t v = res.class_moments.cls[i / kMomentCount][i % kMomentCount];
     h.class_mom_lo.value[i] = lo(v);
@@ -133,11 +139,23 @@ void CeilnavTop::fill_read_inputs() {
 
 void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
                        bool m_axis_runs_tready) {
-  // ---- Register block, first half: this edge's write and read strobes.
+  // ---- Register block, first half: this edge's write and read strobes. The
+  // result store holds reads of MOM_* while moment_gen writes the words.
+  hw_.moments.ready = !pipeline_.mom_wr().valid;
+  hw_.moments.data = hw_.meta.data = store_rd_valid_q_ ? store_rd_q_ : 0u;
   regs_.begin_edge(s_axil, hw_);
   const Reg2Hw& r = regs_.reg2hw();
   // Inputs of the register block: the state before this edge.
   if (regs_.read_sampling()) fill_read_inputs();
+  // Result store read port: the word as the store holds it before the edge,
+  // i.e. the published set (reads of the moments wait while they are written).
+  if (r.moments.re || r.meta.re) {
+    const FrameResults& res = pipeline_.results();
+    store_rd_q_ = r.moments.re
+                      ? MomentGen::moment_word(res.moments, static_cast<int>(r.moments.index))
+                      : meta_word(res, r.meta.index);
+    store_rd_valid_q_ = res.valid;
+  }
   // The histogram block's read port answers one edge after the read.
   hw_.hist_data.count = pipeline_.hist_rd_data();
   const bool run_pop = r.run_word3.re && run_sink();
@@ -213,9 +231,11 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
   regs_.commit(s_axil, hw_);
   if (written >= 0) push_config();  // a configuration field or the LUT may have changed
 
-  if (regs_.irq_rise()) eof_to_irq_q_ = cycle_q_ - eof_edge_q_;
+  if (regs_.irq_rise()) eof_to_irq_q_ = eof_age_q_;
   if (frame_done) ++frame_count_q_;
-  if (eof_seen) eof_edge_q_ = cycle_q_ - 1u;
+  // Edges from the one that accepted the last good EOF pixel (eof_seen is one
+  // edge later), or from the last reset.
+  eof_age_q_ = eof_seen ? 2u : eof_age_q_ + 1u;
   if (pass && s_axis_video.tuser && !hold) {
     in_frame_q_ = true;
   } else if (frame_closed) {

@@ -93,8 +93,13 @@ class CeilnavTop {
   // Counters.
   uint32_t cycle_q_ = 0;
   uint32_t frame_count_q_ = 0;
-  uint32_t eof_edge_q_ = 0;  // edge that accepted the last good EOF pixel
+  uint32_t eof_age_q_ = 0;  // EOF_TO_IRQ_CYCLES if irq rose on the next edge
   uint32_t eof_to_irq_q_ = 0;
+
+  // Result store read port (MOM_* and the published frame meta): the word
+  // read and RESULTS_VALID on the read edge.
+  uint32_t store_rd_q_ = 0;
+  bool store_rd_valid_q_ = false;
 };
 
 }  // namespace ceilnav::stream

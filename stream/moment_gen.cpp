@@ -42,6 +42,8 @@ void MomentGen::reset() {
   pending_q_ = {};
   results_q_ = {};
   done_q_ = false;
+  wr_active_q_ = false;
+  wr_step_q_ = 0;
   overrun_count_q_ = 0;
 }
 
@@ -92,11 +94,24 @@ std::array<uint64_t, kMomentCount> MomentGen::combine(const Cascade& c, uint64_t
   return r;
 }
 
+uint32_t MomentGen::moment_word(const MomentResults& r, int w) {
+  const auto k = static_cast<size_t>(w % kMomentCount);
+  const uint64_t m = w < 2 * kMomentCount ? r.grey[k] : r.mask[k];
+  return static_cast<uint32_t>((w / kMomentCount) % 2 == 0 ? m : m >> 32);
+}
+
 void MomentGen::clock(const LutBeat& in) {
   // ---- Combine: only its timing is modelled (the values were formed at EOF).
   const bool last_step = combine_busy_q_ && combine_left_q_ == 1;
   const bool combine_free = !combine_busy_q_ || last_step;
   done_q_ = last_step;
+  if (last_step) {
+    wr_active_q_ = true;
+    wr_step_q_ = 0;
+  } else if (wr_active_q_) {
+    wr_active_q_ = wr_step_q_ != kMomentWords - 1;
+    ++wr_step_q_;
+  }
   if (last_step) {
     results_q_ = pending_q_;
     combine_busy_q_ = false;

@@ -103,8 +103,27 @@ static_assert(kGreyPassBits < 64);
 
 }  // namespace moment_gen_widths
 
+// One word of the moments on the result-word output (see MomentGen::mom_wr).
+struct MomentWord {
+  bool valid = false;
+  uint8_t index = 0;  // register word: 6 * {grey lo, grey hi, mask lo, mask hi} + MomentIndex
+  uint32_t data = 0;
+  friend bool operator==(const MomentWord&, const MomentWord&) = default;
+};
+
 class MomentGen {
  public:
+  // The moments as register words: kMomentWords words, written out one per
+  // edge for kMomentWords edges after the done edge, in kWordOrder (widest
+  // significant width first: the RTL holds them in a chain of slots that
+  // shifts towards the output, each slot as wide as its widest content).
+  static constexpr int kMomentWords = 4 * kMomentCount;
+  static constexpr std::array<uint8_t, kMomentWords> kWordOrder = {
+      1, 2, 3, 4, 5, 13, 14, 15, 16, 17, 0, 12, 9, 11, 10, 21, 23, 22, 7, 8, 6, 18, 19, 20};
+  // Word w of a result set: lo (w / 6 even) or hi 32 bits of grey (w < 12) or
+  // mask moment w % 6.
+  static uint32_t moment_word(const MomentResults& r, int w);
+
   // Edges from the EOF pixel's edge e to the edge that raises done():
   // the last frame accumulator settles at e+3 (the cascade is skewed one edge
   // per stage), the snapshots load at e+2..e+4, the grey and the mask pass
@@ -136,6 +155,12 @@ class MomentGen {
 
   // Registered outputs.
   bool done() const { return done_q_; }  // one-cycle pulse: results() just updated
+  // The result-word output: valid for the kMomentWords cycles from done() on.
+  MomentWord mom_wr() const {
+    if (!wr_active_q_) return {};
+    const int w = kWordOrder[static_cast<size_t>(wr_step_q_)];
+    return {true, static_cast<uint8_t>(w), moment_word(results_q_, w)};
+  }
   const MomentResults& results() const { return results_q_; }  // last completed frame
   bool combine_busy() const { return combine_busy_q_; }
   // done() rises on the next edge (a function of registers only).
@@ -183,6 +208,8 @@ class MomentGen {
 
   MomentResults results_q_{};
   bool done_q_ = false;
+  bool wr_active_q_ = false;  // result words being written out
+  int wr_step_q_ = 0;         // position in kWordOrder
   uint32_t overrun_count_q_ = 0;
 };
 

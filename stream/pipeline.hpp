@@ -81,6 +81,10 @@ class Pipeline {
   // Good frames whose results were not published because they ended while
   // moment_gen was still combining the previous frame (saturating).
   uint32_t frames_overrun() const { return mom_.overrun_count(); }
+  // moment_gen's result words: the published moments as register words, one
+  // per cycle for MomentGen::kMomentWords cycles from frame_done() on (into
+  // the device's result store).
+  MomentWord mom_wr() const { return mom_.mom_wr(); }
   uint32_t run_trailers_lost() const { return runs_.trailers_lost(); }
   uint32_t run_fifo_occupancy() const { return runs_.fifo_occupancy(); }
 

@@ -127,17 +127,24 @@ struct Coverage {
   uint64_t hist_nonzero = 0;    // HIST_DATA reads with a non-zero bin
   uint64_t run_word_valid = 0;  // RUN_WORD0 reads with VALID = 1
   uint64_t class_nonzero = 0;   // CLASS_MOM_* reads with a non-zero value
+  uint64_t mom_nonzero = 0;     // MOM_* reads (the result store) with a non-zero value
+  uint64_t mom_held = 0;        // cycles a MOM_* read waited for the store's writes
   uint64_t stream_beats = 0;    // m_axis_runs transfers
   uint64_t irq_rises = 0;
   uint64_t soft_resets = 0;
   uint64_t hard_resets = 0;
 
+  static bool is_mom(uint32_t a) {
+    return r::mom_grey_lo::kArray.index(a) >= 0 || r::mom_grey_hi::kArray.index(a) >= 0 ||
+           r::mom_mask_lo::kArray.index(a) >= 0 || r::mom_mask_hi::kArray.index(a) >= 0;
+  }
   void note_response(const BusOp& op, uint32_t rdata, uint8_t resp) {
     if (resp == r::kRespSlvErr) ++slverr;
     if (op.write || resp != r::kRespOkay) return;
     const uint32_t a = op.addr & r::kAddrMask;
     if (a == r::hist_data::kOffset && rdata != 0) ++hist_nonzero;
     if (a == r::run_word0::kOffset && r::run_word0::kValid.get(rdata) != 0) ++run_word_valid;
+    if (is_mom(a) && rdata != 0) ++mom_nonzero;
     if ((r::class_mom_lo::kArray.index(a) >= 0 || r::class_mom_hi::kArray.index(a) >= 0) &&
         rdata != 0) {
       ++class_nonzero;
@@ -148,14 +155,15 @@ struct Coverage {
         "[cosim] ceilnav_top coverage: %llu frames published, %llu malformed, %llu SLVERR, "
         "%llu non-zero bins read, %llu runs in the register window, %llu stream beats, "
         "%llu irq rises, %llu soft resets, %llu hard resets, %llu non-zero class moment "
-        "reads\n",
+        "reads, %llu non-zero moment reads, %llu cycles a moment read waited\n",
         static_cast<unsigned long long>(frames_published),
         static_cast<unsigned long long>(malformed), static_cast<unsigned long long>(slverr),
         static_cast<unsigned long long>(hist_nonzero),
         static_cast<unsigned long long>(run_word_valid),
         static_cast<unsigned long long>(stream_beats), static_cast<unsigned long long>(irq_rises),
         static_cast<unsigned long long>(soft_resets), static_cast<unsigned long long>(hard_resets),
-        static_cast<unsigned long long>(class_nonzero));
+        static_cast<unsigned long long>(class_nonzero),
+        static_cast<unsigned long long>(mom_nonzero), static_cast<unsigned long long>(mom_held));
   }
 };
 
@@ -413,7 +421,21 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
     const bool irq_before = top.model().irq();
     if (top.model().m_axis_runs().tvalid && runs_tready) ++cov.stream_beats;
     if (!top.step(beat, runs_tready)) break;
-    if (top.model().pipeline().frame_done()) ++cov.frames_published;
+    if (top.model().pipeline().frame_done()) {
+      ++cov.frames_published;
+      // Read a moment while the result store is being written (the read waits).
+      if (rng.chance(0.5)) {
+        const uint32_t word = static_cast<uint32_t>(rng.uniform(0, 5));
+        ops.push_front(
+            {false,
+             rng.chance(0.5) ? r::mom_grey_lo::kArray.at(word) : r::mom_mask_hi::kArray.at(word), 0,
+             0xF, false});
+      }
+    }
+    if (op_in_flight && !op_now.write && Coverage::is_mom(op_now.addr & r::kAddrMask) &&
+        top.model().pipeline().mom_wr().valid) {
+      ++cov.mom_held;
+    }
     if (!irq_before && top.model().irq()) ++cov.irq_rises;
   }
   top.sim().report();
@@ -432,6 +454,8 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
     EXPECT_GT(cov.hist_nonzero, 0u);
     EXPECT_GT(cov.run_word_valid, 0u);
     EXPECT_GT(cov.irq_rises, 0u);
+    EXPECT_GT(cov.mom_nonzero, 0u);
+    EXPECT_GT(cov.mom_held, 0u);
     EXPECT_GT(cov.soft_resets, 0u);
     EXPECT_GT(cov.hard_resets, 0u);
     if (kTopConfig.has_class_moments) {

@@ -36,9 +36,9 @@ namespace {
 // Names that cannot be struct members in SystemVerilog or C++.
 std::string member(const std::string& field_or_reg) {
   static const char* const kReserved[] = {
-      "class", "default", "int",   "logic", "bit",    "reg",   "wire",   "struct", "union",
-      "enum",  "type",    "new",   "delete", "this",  "const", "table",  "input",  "output",
-      "begin", "end",     "case",  "module", "assign", "event", "string", "signed", "unsigned"};
+      "class", "default", "int",  "logic",  "bit",    "reg",   "wire",   "struct", "union",
+      "enum",  "type",    "new",  "delete", "this",   "const", "table",  "input",  "output",
+      "begin", "end",     "case", "module", "assign", "event", "string", "signed", "unsigned"};
   std::string n = lower(field_or_reg);
   for (const char* r : kReserved) {
     if (n == r) return n + "_";
@@ -681,7 +681,8 @@ std::string cpp_regblock(const RegMap& m) {
   }
   o << "    out_ = AxiLiteOut{};\n    out_.arready = true;\n    rd_stage_q_ = 0;\n"
     << "    rd_word_q_ = -1;\n    rd_data_q_ = 0;\n    rd_resp_q_ = regs::kRespOkay;\n"
-    << "    rd_ext_q_ = -1;\n    rd_port_q_ = -1;\n    sampling_ = false;\n    wr_word_ = -1;\n    wr_err_ = false;\n    irq_rise_ = false;\n  "
+    << "    rd_ext_q_ = -1;\n    rd_port_q_ = -1;\n    sampling_ = false;\n    wr_word_ = -1;\n    "
+       "wr_err_ = false;\n    irq_rise_ = false;\n  "
        "}\n\n"
     << "  // First half of an edge, from the bus inputs and the state before it: the\n"
     << "  // write decode and the strobes and write data of reg2hw(). Of `hw` only the\n"

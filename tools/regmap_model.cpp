@@ -147,7 +147,8 @@ RegMap parse(const json& j) {
     }
     reg.external = r.value("external", false);
     reg.port = r.value("port", "");
-    if (!reg.port.empty() && m.port(reg.port) == nullptr) fail(where + ": unknown port " + reg.port);
+    if (!reg.port.empty() && m.port(reg.port) == nullptr)
+      fail(where + ": unknown port " + reg.port);
     uint32_t used = 0;
     for (const json& fj : r.at("fields")) {
       Field f;
