@@ -284,22 +284,24 @@ module pipeline #(
   // moves on its edge) is neither staged nor published. (C++ decides by
   // comparing overrun_count before and after the edge: the same, except once
   // the counter has saturated at 2^32 - 1.)
-  // The staged set is a chain of 12 words in write order (frames_ok - 1 is
-  // formed on the write): FRAMES_OK, CYCLES, the six error counters, then the
-  // four run statistics (narrow, last: the chain shifts towards slot 0 and a
-  // slot is only as wide as what can reach it). It loads on the accept edge
-  // (meta) and the next (run stats) and is written into the unpublished bank
-  // while the moments combine, after the previous set's moment words (which
-  // have the write port first): done by accept + 24 + 2 + 12 < kCombineCycles.
-  localparam int unsigned MetaWords = 12;
+  // The staged set is a chain of 11 words in write order: FRAMES_OK (written
+  // twice: as frames_ok - 1 for RES_FRAME_INDEX without a shift, then as
+  // itself), CYCLES, the error counters, then the four run statistics
+  // (narrow, last: the chain shifts towards slot 0 and a slot is only as wide
+  // as what can reach it). It loads on the accept edge (meta) and the next
+  // (run stats) and is written into the unpublished bank while the moments
+  // combine, after the previous set's moment words (which have the write port
+  // first): done by accept + 2 + 24 + 12 < accept + kCombineCycles.
+  localparam int unsigned MetaWords = 12;  // writes
+  localparam int unsigned MetaSlots = 11;
   localparam logic [7:0] ResMetaBase = 8'd32;
   // Port index (RES_FRAME_INDEX, CYCLES_PER_FRAME, RUNS_EMITTED .. RUN_FIFO_HIGH_WATER,
-  // RES_EARLY_EOL .. RES_FRAMES_ABORTED) of chain slot k at [4*k +: 4].
+  // RES_EARLY_EOL .. RES_FRAMES_ABORTED) written by step k, at [4*k +: 4].
   localparam logic [MetaWords*4-1:0] MetaOrder = {
-    4'd5, 4'd4, 4'd3, 4'd2, 4'd11, 4'd10, 4'd9, 4'd8, 4'd7, 4'd6, 4'd1, 4'd0};
+    4'd5, 4'd4, 4'd3, 4'd2, 4'd11, 4'd9, 4'd8, 4'd7, 4'd6, 4'd1, 4'd10, 4'd0};
   logic                     accept;       // moment_gen takes the stage-3 EOF on this edge
   logic                     runs_pend_q;  // ... it did on the last edge: stage the run stats
-  logic [MetaWords*32-1:0]  meta_chain_q;  // slot k at [32*k +: 32]
+  logic [MetaSlots*32-1:0]  meta_chain_q;  // slot k at [32*k +: 32]
   logic                     meta_pend_q;   // the chain waits for / is in its writes
   logic [3:0]               meta_step_q;
   logic                     meta_wr;
@@ -338,17 +340,20 @@ module pipeline #(
       // run_scanner's stats of that frame are final after the same edge.
       runs_pend_q <= accept;
       if (accept) begin
-        meta_chain_q[0 +: 8*32] <= {meta_lut_q[0 +: 6*32], meta_lut_q[MetaBits-1 -: 32],
-                                    meta_lut_q[ErrFramesOk*32 +: 32]};
+        // {aborted, missing_sof .. early_eol, cycles, frames_ok}
+        meta_chain_q[0 +: 7*32] <= {meta_lut_q[5*32 +: 32], meta_lut_q[0 +: 4*32],
+                                    meta_lut_q[MetaBits-1 -: 32], meta_lut_q[ErrFramesOk*32 +: 32]};
         meta_pend_q <= 1'b1;
         meta_step_q <= '0;
       end else if (meta_wr) begin
-        meta_chain_q <= {32'd0, meta_chain_q[MetaWords*32-1:32]};
+        if (meta_step_q != 4'd0) begin
+          meta_chain_q <= {32'd0, meta_chain_q[MetaSlots*32-1:32]};
+        end
         meta_step_q  <= meta_step_q + 4'd1;
         meta_pend_q  <= meta_step_q != 4'(MetaWords - 1);
       end
       if (runs_pend_q) begin
-        meta_chain_q[8*32 +: 4*32] <= {rs_high_water, rs_overflow, rs_row_limit, rs_emitted};
+        meta_chain_q[7*32 +: 4*32] <= {rs_high_water, rs_overflow, rs_row_limit, rs_emitted};
         staged_ovf_q <= rs_overflow != 32'd0;
       end
       if (mom_done_next) begin
@@ -468,6 +473,8 @@ module pipeline #(
     else if (accept)        staged_pending_q <= 1'b1;
     else if (mom_done_next) staged_pending_q <= 1'b0;
   end
+  MetaWrittenBeforePublish: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      mom_done_next |-> !meta_pend_q);
   StagedBeforePublish: assert property (@(posedge clk_i) disable iff (!rst_ni)
       mom_done_next |-> staged_pending_q);
   OneStagedSet: assert property (@(posedge clk_i) disable iff (!rst_ni)
