@@ -8,10 +8,10 @@
 // Cycle model: stream/class_moments.{hpp,cpp}; spec: docs/blocks/class_moments.md.
 // Latency: the EOF pixel taken on edge e shows on the outputs after edge e+2.
 module class_moments #(
-  parameter  int unsigned CoordBits  = 11,  // frames up to 2^CoordBits square
+  parameter  int unsigned CoordBits  = ceilnav_widths_pkg::CoordBits,  // frames up to 2^CoordBits square
   parameter  int unsigned NumClasses = 3,   // classes 1 .. NumClasses are measured (1..3)
   // Moment widths for a full 2^k x 2^k frame of ones (k = CoordBits); the C++
-  // model pins them (class_moments_widths::moment_bits).
+  // model pins them (fixedpoint/datapath.hpp, class_moments::moment_bits).
   localparam int unsigned M00Bits = 2 * CoordBits + 1,
   localparam int unsigned M10Bits = 3 * CoordBits - 1,
   localparam int unsigned M20Bits = 4 * CoordBits - 1,

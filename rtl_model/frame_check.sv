@@ -9,7 +9,7 @@
 // the registers. An SOF beat is checked at (0, 0) against its own
 // configuration, where only "width <= 1" / "height <= 1" matter.
 module frame_check #(
-  parameter int unsigned CoordBits   = 11,  // x, y in [0, 2^CoordBits - 1]
+  parameter int unsigned CoordBits   = ceilnav_widths_pkg::CoordBits,  // x, y in [0, 2^CoordBits - 1]
   parameter int unsigned CounterBits = 32
 ) (
   input  logic                   clk_i,

@@ -10,7 +10,7 @@
 // Read port: hist_rd_en_i/hist_rd_bin_i sampled on edge t ->
 // hist_rd_data_o after edge t (bin of the results before edge t), else 0.
 module histogram #(
-  parameter int unsigned CoordBits = 11,
+  parameter int unsigned CoordBits = ceilnav_widths_pkg::CoordBits,
   // A bin counts at most every pixel of the largest frame, 2^(2*CoordBits).
   parameter int unsigned BinBits   = 2 * CoordBits + 1
 ) (

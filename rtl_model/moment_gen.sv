@@ -39,21 +39,32 @@ module moment_gen (
   output logic [31:0] overrun_count_o
 );
 
-  // Widths for W = H = 2048 (stream/limits.hpp); each equals a static_assert
-  // of namespace moment_gen_widths in stream/moment_gen.hpp (G = grey, K = mask).
-  localparam int unsigned CoordBits = 11;
-  localparam int unsigned DimBits = 12;  // W, H in 1 .. 2048
+  // Widths for W = H = 2048, derived with their proofs in
+  // fixedpoint/datapath.hpp (namespace moment_gen) and generated into
+  // ceilnav_widths_pkg (G = grey, K = mask).
+  localparam int unsigned CoordBits = ceilnav_widths_pkg::CoordBits;
+  localparam int unsigned DimBits = ceilnav_widths_pkg::DimBits;  // W, H in 1 .. 2^CoordBits
   // Row accumulators A1, A2, A3.
-  localparam int unsigned GA1 = 19, GA2 = 29, GA3 = 39;
-  localparam int unsigned KA1 = 12, KA2 = 22, KA3 = 31;
+  localparam int unsigned GA1 = ceilnav_widths_pkg::GA1, GA2 = ceilnav_widths_pkg::GA2,
+                          GA3 = ceilnav_widths_pkg::GA3;
+  localparam int unsigned KA1 = ceilnav_widths_pkg::KA1, KA2 = ceilnav_widths_pkg::KA2,
+                          KA3 = ceilnav_widths_pkg::KA3;
   // Frame accumulators F00 F10 F01 F20 F11 F02.
-  localparam int unsigned GF00 = 30, GF10 = 40, GF01 = 40, GF20 = 50, GF11 = 50, GF02 = 50;
-  localparam int unsigned KF00 = 23, KF10 = 33, KF01 = 33, KF20 = 42, KF11 = 43, KF02 = 42;
+  localparam int unsigned GF00 = ceilnav_widths_pkg::GF00, GF10 = ceilnav_widths_pkg::GF10,
+                          GF01 = ceilnav_widths_pkg::GF01, GF20 = ceilnav_widths_pkg::GF20,
+                          GF11 = ceilnav_widths_pkg::GF11, GF02 = ceilnav_widths_pkg::GF02;
+  localparam int unsigned KF00 = ceilnav_widths_pkg::KF00, KF10 = ceilnav_widths_pkg::KF10,
+                          KF01 = ceilnav_widths_pkg::KF01, KF20 = ceilnav_widths_pkg::KF20,
+                          KF11 = ceilnav_widths_pkg::KF11, KF02 = ceilnav_widths_pkg::KF02;
   // Combine shift registers: F_ab on entry, m_ab on exit (the wider of the two).
-  localparam int unsigned GR00 = 30, GR10 = 40, GR01 = 40, GR20 = 51, GR11 = 50, GR02 = 51;
-  localparam int unsigned KR00 = 23, KR10 = 33, KR01 = 33, KR20 = 43, KR11 = 43, KR02 = 43;
-  localparam int unsigned GreyPass = 51;  // widest grey register
-  localparam int unsigned MaskPass = 43;
+  localparam int unsigned GR00 = ceilnav_widths_pkg::GR00, GR10 = ceilnav_widths_pkg::GR10,
+                          GR01 = ceilnav_widths_pkg::GR01, GR20 = ceilnav_widths_pkg::GR20,
+                          GR11 = ceilnav_widths_pkg::GR11, GR02 = ceilnav_widths_pkg::GR02;
+  localparam int unsigned KR00 = ceilnav_widths_pkg::KR00, KR10 = ceilnav_widths_pkg::KR10,
+                          KR01 = ceilnav_widths_pkg::KR01, KR20 = ceilnav_widths_pkg::KR20,
+                          KR11 = ceilnav_widths_pkg::KR11, KR02 = ceilnav_widths_pkg::KR02;
+  localparam int unsigned GreyPass = ceilnav_widths_pkg::GreyPass;  // widest grey register
+  localparam int unsigned MaskPass = ceilnav_widths_pkg::MaskPass;
   localparam int unsigned PassBits = GreyPass > MaskPass ? GreyPass : MaskPass;
 
   // Combine schedule, as the value of cnt_q before the edge (cnt_q = 0 after

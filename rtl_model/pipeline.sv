@@ -23,7 +23,7 @@ module pipeline #(
   // 0: no class_moments and no published copy of its results; res_class_mom_o = 0
   // (C++: Pipeline(depth, /*has_class_moments=*/false)).
   parameter bit          HasClassMoments = 1'b1,
-  localparam int unsigned CoordBits = 11,
+  localparam int unsigned CoordBits = ceilnav_widths_pkg::CoordBits,
   localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1
 ) (
   input  logic                     clk_i,

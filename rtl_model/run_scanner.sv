@@ -51,12 +51,14 @@ module run_scanner #(
   output logic [31:0]          trailers_lost_o
 );
 
-  localparam int unsigned CoordBits = 11;
-  localparam int unsigned SumWBits = 19;    // 255 W: a run plus margins is clipped to the line
-  localparam int unsigned SumXwBits = 29;   // 255 W (W-1) / 2
-  localparam int unsigned RowRunBits = 11;  // ceil(W/2) runs per row
-  localparam int unsigned RunLenBits = 12;  // W pixels
-  localparam int unsigned FrameRunBits = 22;  // H ceil(W/2) runs per frame
+  // Widths from fixedpoint/datapath.hpp (namespace run_scanner), generated
+  // into ceilnav_widths_pkg.
+  localparam int unsigned CoordBits = ceilnav_widths_pkg::CoordBits;
+  localparam int unsigned SumWBits = ceilnav_widths_pkg::SumWBits;    // 255 W: a run plus margins is clipped to the line
+  localparam int unsigned SumXwBits = ceilnav_widths_pkg::SumXwBits;  // 255 W (W-1) / 2
+  localparam int unsigned RowRunBits = ceilnav_widths_pkg::RowRunBits;  // ceil(W/2) runs per row
+  localparam int unsigned RunLenBits = ceilnav_widths_pkg::RunLenBits;  // W pixels
+  localparam int unsigned FrameRunBits = ceilnav_widths_pkg::FrameRunBits;  // H ceil(W/2) runs per frame
   // FIFO entry: {impl_t, tlast, sum_w, x_end, x_start, row} and, one edge
   // later, sum_xw. row is 16 bits (trailer: the run count); x_start holds the
   // trailer flags. impl_t: a run followed by the constant trailer {row 1,

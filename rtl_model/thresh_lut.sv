@@ -5,7 +5,7 @@
 // stream/thresh_lut.cpp (ThreshLut::clock with LutWrite); see
 // docs/blocks/thresh_lut.md. Latency 1 cycle.
 module thresh_lut #(
-  parameter int unsigned CoordBits = 11
+  parameter int unsigned CoordBits = ceilnav_widths_pkg::CoordBits
 ) (
   input  logic                 clk_i,
   input  logic                 rst_ni,

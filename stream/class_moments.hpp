@@ -18,25 +18,9 @@
 
 namespace ceilnav::stream {
 
+// The widths live in fixedpoint/datapath.hpp (with their proofs).
 namespace class_moments_widths {
-
-// For frames up to 2^k x 2^k (k = kCoordBits) the sums of x^a y^b over a
-// full frame need {2k+1, 3k-1, 3k-1, 4k-1, 4k-2, 4k-1} bits (the RTL derives
-// its widths with these formulas from its CoordBits parameter).
-constexpr std::array<int, kMomentCount> moment_bits(int k) {
-  return {2 * k + 1, 3 * k - 1, 3 * k - 1, 4 * k - 1, 4 * k - 2, 4 * k - 1};
-}
-inline constexpr std::array<int, kMomentCount> kMomentBits = moment_bits(kCoordBits);
-// The same maxima as the mask moments of moment_gen (derived there from the
-// brute-forced sums): a class mask of all ones is the worst case.
-static_assert(kMomentBits == moment_gen_widths::kMaskMomentBits);
-static_assert(kMomentBits == std::array<int, kMomentCount>{23, 32, 32, 43, 42, 43});
-// Pixel terms x^2, x y, y^2 <= (2^k - 1)^2: 2k bits; x, y: k bits; 2x + 1: k + 1.
-inline constexpr int kTermBits = 2 * kCoordBits;
-static_assert(bits_for(uint64_t{kMaxWidth - 1} * (kMaxHeight - 1)) == kTermBits);
-// Window bounds: 0 .. 2^k (one more bit than a coordinate).
-inline constexpr int kWindowBits = kCoordBits + 1;
-
+using namespace fp::datapath::class_moments;  // NOLINT(google-build-using-namespace)
 }  // namespace class_moments_widths
 
 class ClassMoments {

@@ -17,9 +17,8 @@ namespace ceilnav::stream {
 class Histogram {
  public:
   static constexpr size_t kBins = 256;
-  // A bin counts at most every pixel of the largest frame: 2^22 -> 23 bits.
-  static constexpr int kBinBits = bits_for(uint64_t{kMaxWidth} * kMaxHeight);
-  static_assert(kBinBits == 23);
+  // A bin counts at most every pixel of the largest frame (fixedpoint/datapath.hpp).
+  static constexpr int kBinBits = fp::datapath::histogram::kBinBits;
   // EOF pixel sampled on edge e -> done() high and results() switched on edge e+1.
   static constexpr int kDoneLatencyCycles = 1;
 

@@ -16,91 +16,9 @@
 
 namespace ceilnav::stream {
 
+// The widths live in fixedpoint/datapath.hpp (with their proofs).
 namespace moment_gen_widths {
-
-inline constexpr uint64_t kW = kMaxWidth;
-inline constexpr uint64_t kH = kMaxHeight;
-inline constexpr uint64_t kGreyMax = (1u << kPixelBits) - 1;
-
-// Cascade weights: a pixel at u = W - x (1..W) adds 1, u, u(u+1)/2 to the
-// three row accumulators; their sums over a row of n pixels are at most:
-constexpr uint64_t sum1(uint64_t n) {
-  return n;
-}
-constexpr uint64_t sum2(uint64_t n) {
-  return n * (n + 1) / 2;
-}
-constexpr uint64_t sum3(uint64_t n) {
-  return n * (n + 1) * (n + 2) / 6;
-}
-
-// Index order of the frame accumulators (F_ab: weight u^(a) v^(b) with
-// u^(1) = u, u^(2) = u(u+1)/2), the same order as kM00..kM02.
-inline constexpr int kRowCount = 3;  // A1 = sum I, A2 = sum I u, A3 = sum I u(u+1)/2
-
-// Largest row / frame accumulator per unit pixel value (all pixels 1).
-inline constexpr std::array<uint64_t, kRowCount> kRowWeightMax = {sum1(kW), sum2(kW), sum3(kW)};
-inline constexpr std::array<uint64_t, kMomentCount> kFrameWeightMax = {
-    sum1(kW) * sum1(kH), sum2(kW) * sum1(kH), sum1(kW) * sum2(kH),
-    sum3(kW) * sum1(kH), sum2(kW) * sum2(kH), sum1(kW) * sum3(kH)};
-// Largest moment per unit pixel value: sum over the frame of x^a y^b.
-inline constexpr std::array<uint64_t, kMomentCount> kMomentWeightMax = {
-    kW * kH,
-    kH*(kW*(kW - 1) / 2),
-    kW*(kH*(kH - 1) / 2),
-    kH*((kW - 1) * kW * (2 * kW - 1) / 6),
-    (kW * (kW - 1) / 2) * (kH * (kH - 1) / 2),
-    kW*((kH - 1) * kH * (2 * kH - 1) / 6)};
-
-template <std::size_t N>
-constexpr std::array<int, N> widths(const std::array<uint64_t, N>& max, uint64_t scale) {
-  std::array<int, N> w{};
-  for (std::size_t i = 0; i < N; ++i) w[i] = bits_for(max[i] * scale);
-  return w;
-}
-template <std::size_t N>
-constexpr std::array<int, N> wider(const std::array<int, N>& a, const std::array<int, N>& b) {
-  std::array<int, N> w{};
-  for (std::size_t i = 0; i < N; ++i) w[i] = a[i] > b[i] ? a[i] : b[i];
-  return w;
-}
-template <std::size_t N>
-constexpr int largest(const std::array<int, N>& a) {
-  int m = 0;
-  for (int v : a) m = v > m ? v : m;
-  return m;
-}
-
-inline constexpr std::array<int, kRowCount> kGreyRowBits = widths(kRowWeightMax, kGreyMax);
-inline constexpr std::array<int, kRowCount> kMaskRowBits = widths(kRowWeightMax, 1);
-inline constexpr std::array<int, kMomentCount> kGreyFrameBits = widths(kFrameWeightMax, kGreyMax);
-inline constexpr std::array<int, kMomentCount> kMaskFrameBits = widths(kFrameWeightMax, 1);
-// Output port widths (unchanged from the bit-plane design).
-inline constexpr std::array<int, kMomentCount> kGreyMomentBits = widths(kMomentWeightMax, kGreyMax);
-inline constexpr std::array<int, kMomentCount> kMaskMomentBits = widths(kMomentWeightMax, 1);
-// Combine shift registers: hold F_ab on entry and m_ab on exit.
-inline constexpr std::array<int, kMomentCount> kGreyWorkBits =
-    wider(kGreyFrameBits, kGreyMomentBits);
-inline constexpr std::array<int, kMomentCount> kMaskWorkBits =
-    wider(kMaskFrameBits, kMaskMomentBits);
-// Bit-serial passes run over every bit of the widest work register.
-inline constexpr int kGreyPassBits = largest(kGreyWorkBits);
-inline constexpr int kMaskPassBits = largest(kMaskWorkBits);
-inline constexpr int kDimBits = bits_for(kW);  // W, H in 1 .. 2048
-
-static_assert(kW == kH, "the RTL sizes W and H alike");
-static_assert(kGreyRowBits == std::array<int, 3>{19, 29, 39});
-static_assert(kMaskRowBits == std::array<int, 3>{12, 22, 31});
-static_assert(kGreyFrameBits == std::array<int, 6>{30, 40, 40, 50, 50, 50});
-static_assert(kMaskFrameBits == std::array<int, 6>{23, 33, 33, 42, 43, 42});
-static_assert(kGreyMomentBits == std::array<int, 6>{30, 40, 40, 51, 50, 51});
-static_assert(kMaskMomentBits == std::array<int, 6>{23, 32, 32, 43, 42, 43});
-static_assert(kGreyWorkBits == std::array<int, 6>{30, 40, 40, 51, 50, 51});
-static_assert(kMaskWorkBits == std::array<int, 6>{23, 33, 33, 43, 43, 43});
-static_assert(kGreyPassBits == 51 && kMaskPassBits == 43 && kDimBits == 12);
-// Every accumulator and intermediate fits a uint64_t with room to spare.
-static_assert(kGreyPassBits < 64);
-
+using namespace fp::datapath::moment_gen;  // NOLINT(google-build-using-namespace)
 }  // namespace moment_gen_widths
 
 // One word of the moments on the result-word output (see MomentGen::mom_wr).

@@ -15,19 +15,9 @@
 
 namespace ceilnav::stream {
 
+// The widths live in fixedpoint/datapath.hpp (with their proofs).
 namespace run_scanner_widths {
-
-inline constexpr uint64_t kW = kMaxWidth;
-inline constexpr uint64_t kH = kMaxHeight;
-// A run plus its margins is clipped to the line: at most W pixels.
-inline constexpr int kSumWBits = bits_for(255 * kW);                    // 19
-inline constexpr int kSumXwBits = bits_for(255 * (kW * (kW - 1) / 2));  // 29
-// Runs on one row: at most ceil(W / 2) (a run needs a following 0 or the EOL).
-inline constexpr int kRowRunCountBits = bits_for((kW + 1) / 2);           // 11
-inline constexpr int kFrameRunCountBits = bits_for(kH * ((kW + 1) / 2));  // 22
-static_assert(kSumWBits == 19 && kSumXwBits == 29);
-static_assert(kRowRunCountBits == 11 && kFrameRunCountBits == 22);
-
+using namespace fp::datapath::run_scanner;  // NOLINT(google-build-using-namespace)
 }  // namespace run_scanner_widths
 
 // m_axis_runs_tdata: the RunRecord packed into 112 bits, no field crossing a

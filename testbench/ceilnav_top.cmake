@@ -5,6 +5,7 @@
 # The generated register package comes first (the RTL uses its types), then
 # the generated register block.
 set(ceilnav_top_sv
+    ${CEILNAV_GENERATED_DIR}/ceilnav_widths_pkg.sv
     ${CEILNAV_GENERATED_DIR}/ceilnav_reg_pkg.sv ${CEILNAV_GENERATED_DIR}/ceilnav_regblock.sv
     ${CEILNAV_RTL_DIR}/ceilnav_top.sv ${CEILNAV_RTL_DIR}/pipeline.sv
     ${CEILNAV_RTL_DIR}/frame_check.sv ${CEILNAV_RTL_DIR}/thresh_lut.sv
@@ -19,7 +20,8 @@ set(ceilnav_top_sv
 set(regmap_gen_sources ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp
                        ${PROJECT_SOURCE_DIR}/tools/regmap_model.cpp
                        ${PROJECT_SOURCE_DIR}/tools/regmap_model.hpp
-                       ${PROJECT_SOURCE_DIR}/tools/regblock_emit.cpp)
+                       ${PROJECT_SOURCE_DIR}/tools/regblock_emit.cpp
+                       ${PROJECT_SOURCE_DIR}/fixedpoint/datapath.hpp)
 set(regmap_stamp ${CEILNAV_GENERATED_DIR}/ceilnav_regblock.sv)
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
              ${PROJECT_SOURCE_DIR}/rtl_model/regmap.json ${regmap_gen_sources})
@@ -37,7 +39,7 @@ if(regmap_boot_stale)
   foreach(dir IN LISTS json_inc)
     list(APPEND json_flags -I${dir})
   endforeach()
-  execute_process(COMMAND ${CMAKE_CXX_COMPILER} -std=c++20 ${json_flags}
+  execute_process(COMMAND ${CMAKE_CXX_COMPILER} -std=c++20 ${json_flags} -I${PROJECT_SOURCE_DIR}
                           ${PROJECT_SOURCE_DIR}/tools/regmap_gen.cpp
                           ${PROJECT_SOURCE_DIR}/tools/regmap_model.cpp
                           ${PROJECT_SOURCE_DIR}/tools/regblock_emit.cpp -o ${ceilnav_regmap_boot}
