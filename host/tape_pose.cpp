@@ -137,54 +137,25 @@ Scratch& scratch() {
   return s;
 }
 
-}  // namespace
+// ---------------------------------------------------------------- the steps
+// estimate_tape_pose in order: sort_runs, link_chains, chain_extents,
+// undistort_run_centres, fit_chain_headings, gate_centre_points,
+// collect_points, largest_chains, status_when_too_few, fit_candidates,
+// choose_tape, inlier_statistics, yaw_sigma, set_vanishing_point,
+// pitch_from_edges (docs/host_maths.md section 4).
 
-Status pose_from_centre_line(const Eigen::Vector3d& line, double pitch_rad,
-                             double ceiling_above_camera_m, double max_abs_yaw_rad, double& yaw_rad,
-                             double& offset_m) {
-  if (!line.allFinite()) return Status::degenerate;
-  const double sp = std::sin(pitch_rad), cp = std::cos(pitch_rad);
-  const double l1 = line.x(), l2 = line.y(), l3 = line.z();
-  // The back-projected plane has world normal n = R^T l; it contains +X:
-  //   n_x = l1 sin psi + cos psi (l2 sin p + l3 cos p) = 0.
-  const double num = -(l2 * sp + l3 * cp);
-  if (!(std::abs(l1) > 0.0) || std::abs(num) > std::tan(max_abs_yaw_rad) * std::abs(l1)) {
-    return Status::degenerate;
-  }
-  const double yaw = std::atan(num / l1);
-  // It contains the tape (s, -offset, c) relative to the camera:
-  //   offset = n_z c / n_y,  n_y = -l1 / cos psi,  n_z = -l2 cos p + l3 sin p.
-  const double offset = ceiling_above_camera_m * std::cos(yaw) * (l2 * cp - l3 * sp) / l1;
-  if (!std::isfinite(yaw) || !std::isfinite(offset)) return Status::degenerate;
-  yaw_rad = yaw;
-  offset_m = offset;
-  return Status::ok;
-}
+// The pitch, the ceiling height and the image size every step reads.
+struct Geometry {
+  double sp = 0.0, cp = 1.0;  // sin, cos of the pitch
+  double c = 0.0;             // ceiling above the camera, metres
+  int width = 0, height = 0;
+};
 
-TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const CameraModel& cam,
-                            const CameraConfig& cfg, const TapePoseOptions& opt) {
-  TapePose out;
-  out.method = "runs_centre_line";
-  out.pitch_rad = cfg.camera_pitch_deg * kDegToRad;
-  out.points_total = static_cast<int>(runs.size());
-  if (runs.empty()) {
-    out.status = Status::no_tape;
-    return out;
-  }
-  const double sp = std::sin(out.pitch_rad), cp = std::cos(out.pitch_rad);
-  const double c = cfg.ceiling_above_camera_m();
-  if (!(c > 0.0)) {
-    out.status = Status::bad_config;
-    return out;
-  }
-  const int width = cfg.image_width, height = cfg.image_height;
-
-  Scratch& sc = scratch();
+// Runs in (row, x_start) order; the scanner emits them so, but do not rely
+// on it. Their geometry is copied in that order (k) into sc.row, sc.x_start,
+// sc.x_end for the scans below; sc.order[k] is the run's index i in the input.
+void sort_runs(std::span<const stream::RunRecord> runs, Scratch& sc) {
   const size_t n = runs.size();
-
-  // Runs in (row, x_start) order; the scanner emits them so, but do not rely
-  // on it. Their geometry is copied in that order (k) for the scans below;
-  // idx[k] is the run's index i in the input.
   std::vector<int>& idx = sc.order;
   idx.resize(n);
   std::iota(idx.begin(), idx.end(), 0);
@@ -209,48 +180,62 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     xs_k[k] = r.x_start;
     xe_k[k] = r.x_end;
   }
+}
 
-  // Connected chains of runs: a run joins a run of the row above when their
-  // pixel spans touch (8-connectivity). The root of a chain is its lowest
-  // run index i.
-  // label_k[k]: a run of run k's chain, set to the chain's root when k was
-  // joined, so that finding the root from it is short.
+// Connected chains of runs (after sort_runs): a run joins a run of the row
+// above when their pixel spans touch (8-connectivity). Fills sc.parent, the
+// union-find links (from a higher run index i to a lower one; the root of a
+// chain is its lowest run index).
+void link_chains(size_t n, Scratch& sc) {
+  const int* const row_k = sc.row.data();
+  const int* const xs_k = sc.x_start.data();
+  const int* const xe_k = sc.x_end.data();
+  const int* const idx_k = sc.order.data();
   std::vector<int>& parent = sc.parent;
   parent.resize(n);
   std::iota(parent.begin(), parent.end(), 0);
+  // label_k[k]: a run of run k's chain, set to the chain's root when k was
+  // joined, so that finding the root from it is short.
   sc.label.resize(n);
   int* const label_k = sc.label.data();
   for (size_t k = 0; k < n; ++k) label_k[k] = idx_k[k];
-  {
-    size_t prev_begin = 0, prev_end = 0, cur_begin = 0;
-    while (cur_begin < n) {
-      const int row = row_k[cur_begin];
-      size_t cur_end = cur_begin;
-      while (cur_end < n && row_k[cur_end] == row) ++cur_end;
-      const bool adjacent = prev_end > prev_begin && row_k[prev_begin] + 1 == row;
-      if (adjacent) {
-        size_t p = prev_begin;
-        for (size_t k = cur_begin; k < cur_end; ++k) {
-          while (p < prev_end && xe_k[p] + 1 < xs_k[k]) ++p;
-          int ra = idx_k[k];  // root of run k (a fresh run is its own), tracked
-          for (size_t q = p; q < prev_end; ++q) {
-            if (xs_k[q] > xe_k[k] + 1) break;
-            const int rb = find_root(parent, label_k[q]);
-            if (ra != rb) {
-              parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
-              ra = std::min(ra, rb);
-            }
+  size_t prev_begin = 0, prev_end = 0, cur_begin = 0;
+  while (cur_begin < n) {
+    const int row = row_k[cur_begin];
+    size_t cur_end = cur_begin;
+    while (cur_end < n && row_k[cur_end] == row) ++cur_end;
+    const bool adjacent = prev_end > prev_begin && row_k[prev_begin] + 1 == row;
+    if (adjacent) {
+      size_t p = prev_begin;
+      for (size_t k = cur_begin; k < cur_end; ++k) {
+        while (p < prev_end && xe_k[p] + 1 < xs_k[k]) ++p;
+        int ra = idx_k[k];  // root of run k (a fresh run is its own), tracked
+        for (size_t q = p; q < prev_end; ++q) {
+          if (xs_k[q] > xe_k[k] + 1) break;
+          const int rb = find_root(parent, label_k[q]);
+          if (ra != rb) {
+            parent[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+            ra = std::min(ra, rb);
           }
-          label_k[k] = ra;
         }
+        label_k[k] = ra;
       }
-      prev_begin = cur_begin;
-      prev_end = cur_end;
-      cur_begin = cur_end;
     }
+    prev_begin = cur_begin;
+    prev_end = cur_end;
+    cur_begin = cur_end;
   }
+}
 
-  // Chain of every run (by i and by k), and per chain its row and column extent.
+// Chain of every run (after link_chains): sc.root by run index i, sc.root_k
+// in sorted order k, and per chain (indexed by its root) its row and column
+// extent.
+void chain_extents(size_t n, Scratch& sc) {
+  const int* const row_k = sc.row.data();
+  const int* const xs_k = sc.x_start.data();
+  const int* const xe_k = sc.x_end.data();
+  const int* const idx_k = sc.order.data();
+  const std::vector<int>& parent = sc.parent;
   sc.root.resize(n);
   sc.root_k.resize(n);
   sc.comp_min_row.assign(n, 1 << 30);
@@ -277,8 +262,13 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     comp_min_col[r] = std::min(comp_min_col[r], xs_k[k]);
     comp_max_col[r] = std::max(comp_max_col[r], xe_k[k]);
   }
+}
 
-  // Run centres, undistorted all at once.
+// Run centres x_c = sum_xw / sum_w (the span's middle when sum_w is 0) in
+// pixels (sc.u, sc.v) and undistorted all at once (sc.x, sc.y), by run index.
+void undistort_run_centres(std::span<const stream::RunRecord> runs, const CameraModel& cam,
+                           Scratch& sc) {
+  const size_t n = runs.size();
   sc.u.resize(n);
   sc.v.resize(n);
   sc.x.resize(n);
@@ -290,12 +280,23 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     sc.v[i] = r.row;
   }
   cam.normalise(sc.u, sc.v, sc.x, sc.y);
+}
 
-  // Heading of each chain, for the width gate: a tape at heading psi is
-  // 1 / cos psi wider along a row than at psi = 0 (host_maths.md section 3).
-  // Each chain's run centres (ceiling rows only) are fitted with x = a y + b,
-  // tan psi = a sin p + b cos p; |psi| is capped at max_abs_yaw_deg. A branch
-  // crossing or a merge adds a few rows to a chain; the fit is its tape's.
+// The chain (sc.chains) of a run's root.
+ChainStats& chain_of_run(Scratch& sc, int rt) {
+  return sc.chains[static_cast<size_t>(sc.chain_of_root[static_cast<size_t>(rt)])];
+}
+
+// Heading of each chain, for the width gate: a tape at heading psi is
+// 1 / cos psi wider along a row than at psi = 0 (host_maths.md section 3).
+// Each chain's run centres (ceiling rows only) are fitted with x = a y + b,
+// tan psi = a sin p + b cos p; |psi| is capped at max_abs_yaw_deg. A branch
+// crossing or a merge adds a few rows to a chain; the fit is its tape's.
+// Numbers the chains (sc.chain_of_root, sc.chain_root) and fills sc.chains'
+// sums and headings.
+void fit_chain_headings(size_t n, const Geometry& g, const TapePoseOptions& opt, Scratch& sc) {
+  const double sp = g.sp, cp = g.cp;
+  const int* const root = sc.root.data();
   const double max_tan_yaw = std::tan(std::min(opt.max_abs_yaw_deg, 89.0) * kDegToRad);
   sc.chain_of_root.resize(n);
   sc.chain_root.clear();
@@ -305,19 +306,15 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     chain_of_root[i] = static_cast<int>(sc.chain_root.size());
     sc.chain_root.push_back(static_cast<int>(i));
   }
-  const size_t n_chains = sc.chain_root.size();
   std::vector<ChainStats>& chains = sc.chains;
-  chains.assign(n_chains, ChainStats{});
-  const auto chain_of_run = [&](int rt) -> ChainStats& {
-    return chains[static_cast<size_t>(chain_of_root[static_cast<size_t>(rt)])];
-  };
+  chains.assign(sc.chain_root.size(), ChainStats{});
   {
     // Runs of one chain mostly come in a row: sum in registers, store on a change.
     ChainStats acc;
     int acc_root = -1;
     const auto flush = [&] {
       if (acc_root < 0) return;
-      ChainStats& ch = chain_of_run(acc_root);
+      ChainStats& ch = chain_of_run(sc, acc_root);
       ch.n += acc.n;
       ch.sy += acc.sy;
       ch.sx += acc.sx;
@@ -354,12 +351,28 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     ch.steep = std::abs(tan_yaw) > max_tan_yaw;
     ch.inv_cos_yaw = std::sqrt(1.0 + std::min(tan_yaw * tan_yaw, max_tan_yaw * max_tan_yaw));
   }
+}
 
-  // Centre-line points. Gates: runs touching the left/right image border lose
-  // their margin (biased centre); the end rows of a chain inside the image are
-  // partly covered by the tape end; rows where a chain splits into several runs;
-  // runs wider than the tape can be (T-branch, merged tapes); rows at or below
-  // the horizon cannot hold a ceiling point.
+// Centre-line points: sc.usable[i] = 1 and sc.w[i] = its weight for a run
+// that passes every gate. Gates: runs touching the left/right image border
+// lose their margin (biased centre); the end rows of a chain inside the image
+// are partly covered by the tape end; rows where a chain splits into several
+// runs; runs wider than the tape can be (T-branch, merged tapes); rows at or
+// below the horizon cannot hold a ceiling point. Also counts each chain's
+// pixels on ceiling rows and those in too-wide runs (ChainStats).
+void gate_centre_points(std::span<const stream::RunRecord> runs, const CameraModel& cam,
+                        const CameraConfig& cfg, const TapePoseOptions& opt, const Geometry& g,
+                        Scratch& sc) {
+  const size_t n = runs.size();
+  const double sp = g.sp, cp = g.cp, c = g.c;
+  const int width = g.width, height = g.height;
+  const int* const row_k = sc.row.data();
+  const int* const xs_k = sc.x_start.data();
+  const int* const xe_k = sc.x_end.data();
+  const int* const idx_k = sc.order.data();
+  const int* const root_k = sc.root_k.data();
+  const int* const comp_min_row = sc.comp_min_row.data();
+  const int* const comp_max_row = sc.comp_max_row.data();
   sc.usable.assign(n, 0);
   sc.w.resize(n);
   uint8_t* const usable = sc.usable.data();
@@ -386,7 +399,7 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     // Horizontal width of the tape image at normalised row y: W (sin p - y cos p) / (c cos psi).
     const double depth = sp - py * cp;
     if (!(depth > 1e-9)) ok = false;
-    ChainStats& ch = chain_of_run(rt);
+    ChainStats& ch = chain_of_run(sc, rt);
     if (depth > 1e-9) ch.pixels += xe - xs + 1;
     if (depth > 1e-9 && max_width_factor > 0.0) {
       const double expected_px = width_scale * depth / c * ch.inv_cos_yaw;
@@ -401,118 +414,138 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
       weight_i[i] = weight;
     }
   }
+}
 
-  // The usable points, in run index order (the order every sum below runs in).
+// The usable points (gate_centre_points) into sc.pts, in run index order
+// (the order every sum below runs in).
+void collect_points(std::span<const stream::RunRecord> runs, Scratch& sc) {
+  const size_t n = runs.size();
   Points& pts = sc.pts;
   pts.resize(static_cast<size_t>(std::count(sc.usable.begin(), sc.usable.end(), uint8_t{1})));
-  {
-    size_t k = 0;
-    for (size_t i = 0; i < n; ++i) {
-      if (usable[i] == 0) continue;
-      pts.x[k] = x_i[i];
-      pts.y[k] = y_i[i];
-      pts.weight[k] = weight_i[i];
-      pts.row[k] = runs[i].row;
-      pts.run[k] = static_cast<int>(i);
-      pts.comp[k] = root[i];
-      ++k;
-    }
+  size_t k = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (sc.usable[i] == 0) continue;
+    pts.x[k] = sc.x[i];
+    pts.y[k] = sc.y[i];
+    pts.weight[k] = sc.w[i];
+    pts.row[k] = runs[i].row;
+    pts.run[k] = static_cast<int>(i);
+    pts.comp[k] = sc.root[i];
+    ++k;
   }
-  const size_t m = pts.size();
-  const int usable_total = static_cast<int>(m);
+}
 
-  // Candidate lines: one per large chain, each grown to every usable point
-  // within the residual gate (so that a tape broken by a gap counts once).
-  std::vector<std::pair<int, int>>& comps = sc.comps;  // (usable points, root)
+// The (at most 4) chains with most usable points, at least 2, into sc.comps
+// as (usable points, root), most first.
+void largest_chains(size_t n, Scratch& sc) {
+  const Points& pts = sc.pts;
+  std::vector<std::pair<int, int>>& comps = sc.comps;
   comps.clear();
-  {
-    std::vector<int>& usable_count = sc.usable_count;
-    usable_count.assign(n, 0);
-    for (size_t k = 0; k < m; ++k) ++usable_count[static_cast<size_t>(pts.comp[k])];
-    for (size_t i = 0; i < n; ++i) {
-      if (usable_count[i] >= 2) comps.emplace_back(usable_count[i], static_cast<int>(i));
-    }
-    std::sort(comps.begin(), comps.end(), std::greater<>());
-    if (comps.size() > 4) comps.resize(4);
+  std::vector<int>& usable_count = sc.usable_count;
+  usable_count.assign(n, 0);
+  for (size_t k = 0; k < pts.size(); ++k) ++usable_count[static_cast<size_t>(pts.comp[k])];
+  for (size_t i = 0; i < n; ++i) {
+    if (usable_count[i] >= 2) comps.emplace_back(usable_count[i], static_cast<int>(i));
   }
-  // The status when too few centre-line points remain. A chain spanning
-  // min_row_span_px rows or columns is tape-like, smaller ones are noise
-  // specks: none -> no_tape. A tape-like chain runs along the horizon when its
-  // heading is beyond max_abs_yaw_deg, it lies on one row, or most of its
-  // pixels are in runs too wide even for that heading: all of them -> degenerate.
+  std::sort(comps.begin(), comps.end(), std::greater<>());
+  if (comps.size() > 4) comps.resize(4);
+}
+
+// The status when too few centre-line points remain. A chain spanning
+// min_row_span_px rows or columns is tape-like, smaller ones are noise
+// specks: none -> no_tape. A tape-like chain runs along the horizon when its
+// heading is beyond max_abs_yaw_deg, it lies on one row, or most of its
+// pixels are in runs too wide even for that heading: all of them -> degenerate.
+// Otherwise too_few_points.
+Status status_when_too_few(const TapePoseOptions& opt, const Scratch& sc) {
   int tape_like = 0, along_horizon = 0;
-  for (size_t ci = 0; ci < n_chains; ++ci) {
+  for (size_t ci = 0; ci < sc.chain_root.size(); ++ci) {
     const size_t r = static_cast<size_t>(sc.chain_root[ci]);
-    if (comp_max_row[r] - comp_min_row[r] < opt.min_row_span_px &&
-        comp_max_col[r] - comp_min_col[r] < opt.min_row_span_px) {
+    if (sc.comp_max_row[r] - sc.comp_min_row[r] < opt.min_row_span_px &&
+        sc.comp_max_col[r] - sc.comp_min_col[r] < opt.min_row_span_px) {
       continue;
     }
     ++tape_like;
-    const ChainStats& ch = chains[ci];
+    const ChainStats& ch = sc.chains[ci];
     if (ch.steep || 2 * ch.too_wide_pixels > ch.pixels) ++along_horizon;
   }
-  const Status too_few = tape_like == 0               ? Status::no_tape
-                         : along_horizon == tape_like ? Status::degenerate
-                                                      : Status::too_few_points;
-  if (usable_total < opt.min_points || comps.empty()) {
-    out.status = too_few;
-    out.points_used = usable_total;
-    return out;
-  }
+  return tape_like == 0               ? Status::no_tape
+         : along_horizon == tape_like ? Status::degenerate
+                                      : Status::too_few_points;
+}
 
-  // Inlier sets are masks over pts. A fit depends only on its set (the sums
-  // run in index order), so a refinement whose set did not change has
-  // converged, and a set fitted before (another chain of the same tape) is
-  // not fitted again: the lines are the ones a plain loop would give.
-  const double gate = opt.max_residual_px / cam.fx();
-  Mask& cur = sc.mask_a;
-  Mask& next = sc.mask_b;
-  const auto inlier_mask = [&](const LineFit& f, Mask& mask) {
+// Inlier sets are masks over pts. A fit depends only on its set (the sums
+// run in index order), so a refinement whose set did not change has
+// converged, and a set fitted before (another chain of the same tape) is
+// not fitted again: the lines are the ones a plain loop would give.
+class InlierFits {
+ public:
+  InlierFits(const Points& pts, double gate, std::vector<MaskFit>& memo)
+      : pts_(pts), gate_(gate), memo_(memo) {}
+  // mask[k] = 1 where point k lies within the gate of the line f.
+  void inliers(const LineFit& f, Mask& mask) const {
+    const size_t m = pts_.size();
     mask.resize(m);
     uint8_t* const in = mask.data();
-    const double* const px = pts.x.data();
-    const double* const py = pts.y.data();
+    const double* const px = pts_.x.data();
+    const double* const py = pts_.y.data();
     for (size_t k = 0; k < m; ++k) {
-      in[k] = std::abs(px[k] - (f.a * py[k] + f.b)) <= gate ? 1 : 0;
+      in[k] = std::abs(px[k] - (f.a * py[k] + f.b)) <= gate_ ? 1 : 0;
     }
-  };
-  std::vector<MaskFit>& memo = sc.memo;
-  size_t memo_used = 0;
-  const auto fit_set = [&](const Mask& mask) {
-    for (size_t e = 0; e < memo_used; ++e) {
-      if (memo[e].mask == mask) return memo[e].fit;
+  }
+  // fit_x_on_y of the set, remembered.
+  LineFit fit(const Mask& mask) {
+    for (size_t e = 0; e < used_; ++e) {
+      if (memo_[e].mask == mask) return memo_[e].fit;
     }
-    const LineFit f = fit_x_on_y(pts, mask);
-    if (memo_used == memo.size()) memo.emplace_back();
-    memo[memo_used].mask = mask;
-    memo[memo_used].fit = f;
-    ++memo_used;
+    const LineFit f = fit_x_on_y(pts_, mask);
+    if (used_ == memo_.size()) memo_.emplace_back();
+    memo_[used_].mask = mask;
+    memo_[used_].fit = f;
+    ++used_;
     return f;
-  };
+  }
+
+ private:
+  const Points& pts_;
+  double gate_;
+  std::vector<MaskFit>& memo_;
+  size_t used_ = 0;
+};
+
+// Candidate lines into sc.cands: one per chain of sc.comps, each fitted on
+// its chain, trimmed of its own outliers, then grown to every usable point
+// within the residual gate over refine_iterations rounds (so that a tape
+// broken by a gap counts once). Support = its inliers.
+void fit_candidates(const TapePoseOptions& opt, InlierFits& fits, Scratch& sc) {
+  const Points& pts = sc.pts;
+  const size_t m = pts.size();
+  Mask& cur = sc.mask_a;
+  Mask& next = sc.mask_b;
   std::vector<Candidate>& cands = sc.cands;
   cands.clear();
-  for (const auto& [count, comp_root] : comps) {
+  for (const auto& [count, comp_root] : sc.comps) {
     cur.resize(m);
     uint8_t* const in = cur.data();
     const int* const pc = pts.comp.data();
     for (size_t k = 0; k < m; ++k) in[k] = pc[k] == comp_root ? 1 : 0;
-    LineFit f = fit_set(cur);
+    LineFit f = fits.fit(cur);
     if (!f.ok) continue;
     // Trim the chain's own outliers (noise stuck to the tape) before growing.
     // `cur` is the set f was fitted on; `next` is inlier(f).
     bool next_is_inliers = false;
     for (int it = 0; it < opt.refine_iterations && f.ok; ++it) {
-      inlier_mask(f, next);
+      fits.inliers(f, next);
       next_is_inliers = true;
       if (next == cur) break;  // the refit would give f again
-      const LineFit g = fit_set(next);
+      const LineFit g = fits.fit(next);
       if (!g.ok) break;
       f = g;
       std::swap(cur, next);
       next_is_inliers = false;
     }
     if (!f.ok) continue;
-    if (!next_is_inliers) inlier_mask(f, next);
+    if (!next_is_inliers) fits.inliers(f, next);
     Candidate cand;
     cand.line = f;
     cand.support = static_cast<int>(std::count(next.begin(), next.end(), uint8_t{1}));
@@ -520,144 +553,249 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     cand.dist_to_centre = std::abs(f.b) / std::sqrt(1.0 + f.a * f.a);
     cands.push_back(cand);
   }
-  if (cands.empty()) {
-    out.status = Status::degenerate;
-    return out;
-  }
+}
+
+// The tape among non-empty candidates: the most support; those within
+// tie_fraction of it are tied and the one nearest the principal point wins.
+LineFit choose_tape(const std::vector<Candidate>& cands, double tie_fraction) {
   int best_support = 0;
   for (const Candidate& cd : cands) best_support = std::max(best_support, cd.support);
   const Candidate* best = nullptr;
   for (const Candidate& cd : cands) {
-    if (cd.support < (1.0 - opt.tie_fraction) * best_support) continue;
+    if (cd.support < (1.0 - tie_fraction) * best_support) continue;
     if (best == nullptr || cd.dist_to_centre < best->dist_to_centre) best = &cd;
   }
-  const LineFit line = best->line;
+  return best->line;
+}
 
-  // Final statistics on the inliers.
+// Sums over the final inliers of the chosen line.
+struct InlierStats {
   int used = 0;
   int row_min = 1 << 30, row_max = -1;
-  double ss = 0.0, sy = 0.0, syy = 0.0;
-  Mask& final_inliers = sc.mask_a;
-  inlier_mask(line, final_inliers);
-  for (size_t k = 0; k < m; ++k) {
-    if (final_inliers[k] == 0) continue;
-    ++used;
-    row_min = std::min(row_min, pts.row[k]);
-    row_max = std::max(row_max, pts.row[k]);
-    const double r = (pts.x[k] - (line.a * pts.y[k] + line.b)) * cam.fx();
-    ss += r * r;
-    sy += pts.y[k];
-    syy += pts.y[k] * pts.y[k];
+  double ss = 0.0;  // sum of squared residuals, pixels^2
+  double sy = 0.0, syy = 0.0;
+};
+
+InlierStats inlier_statistics(const Points& pts, const Mask& inliers, const LineFit& line,
+                              double fx) {
+  InlierStats s;
+  for (size_t k = 0; k < pts.size(); ++k) {
+    if (inliers[k] == 0) continue;
+    ++s.used;
+    s.row_min = std::min(s.row_min, pts.row[k]);
+    s.row_max = std::max(s.row_max, pts.row[k]);
+    const double r = (pts.x[k] - (line.a * pts.y[k] + line.b)) * fx;
+    s.ss += r * r;
+    s.sy += pts.y[k];
+    s.syy += pts.y[k] * pts.y[k];
   }
-  out.points_used = used;
-  out.residual_rms_px = used > 0 ? std::sqrt(ss / used) : 0.0;
+  return s;
+}
+
+// Standard error of the yaw from the scatter of the inliers about the line
+// (unweighted least squares, residuals taken as independent): with
+// s^2 = sum r^2 / (N - 2), var a = s^2 / S_yy, var b = s^2 (1/N + mean_y^2 / S_yy),
+// cov(a, b) = -mean_y s^2 / S_yy, and tan psi = a sin p + b cos p.
+// 0 when it cannot be computed (used > 0 required).
+double yaw_sigma(const InlierStats& s, const LineFit& line, double fx, const Geometry& g) {
+  const double sp = g.sp, cp = g.cp;
+  const double nn = s.used, mean_y = s.sy / nn, s_yy = s.syy - nn * mean_y * mean_y;
+  const double s2 = s.used > 2 ? s.ss / (fx * fx) / (nn - 2.0) : 0.0;
+  const double tan_yaw = line.a * sp + line.b * cp;
+  if (s_yy > 0.0) {
+    const double var_tan = s2 * (sp * sp / s_yy + cp * cp * (1.0 / nn + mean_y * mean_y / s_yy) -
+                                 2.0 * sp * cp * mean_y / s_yy);
+    const double sigma = std::sqrt(std::max(0.0, var_tan)) / (1.0 + tan_yaw * tan_yaw);
+    if (std::isfinite(sigma)) return sigma;
+  }
+  return 0.0;
+}
+
+// out.vp_* from the vanishing point of +X in normalised coordinates, when its
+// ideal pixel is finite and within 1e9 px.
+void set_vanishing_point(const Eigen::Vector2d& vp, const CameraModel& cam, TapePose& out) {
+  const Eigen::Vector2d vp_px = cam.ideal_pixel(vp);
+  if (vp_px.allFinite() && vp_px.cwiseAbs().maxCoeff() < 1e9) {
+    out.vp_finite = true;
+    out.vp_u_px = vp_px.x();
+    out.vp_v_px = vp_px.y();
+  }
+}
+
+// Pitch from the left/right edge lines of the inlier runs, intersected. The
+// +X direction in camera axes is (sin psi, sin p cos psi, cos p cos psi) so the
+// homogeneous intersection V (scaled to V_y > 0) gives p = atan2(V_y, V_z).
+// Sets out.pitch_est_* when the intersection gives a pitch in (0, 90 deg + 0.2).
+// Reuses sc.u, sc.v, sc.left, sc.right, sc.mask_b.
+void pitch_from_edges(std::span<const stream::RunRecord> runs, const CameraModel& cam,
+                      const Mask& final_inliers, int used, Scratch& sc, TapePose& out) {
+  const Points& pts = sc.pts;
+  const size_t m = pts.size();
+  // The estimate is biased far beyond its noise (docs), so 48 rows suffice.
+  // Edge positions are quantised to pixels: equal noise, unit weights.
+  const size_t stride = static_cast<size_t>(std::max(1, used / 48));
+  size_t edges = 0;  // sampled inliers
+  {
+    size_t phase = 0;  // inliers seen, modulo stride
+    for (size_t k = 0; k < m; ++k) {
+      if (final_inliers[k] == 0) continue;
+      if (phase == 0) ++edges;
+      if (++phase == stride) phase = 0;
+    }
+  }
+  // Left edges in u/v [0, edges), right edges in [edges, 2 edges).
+  sc.u.resize(2 * edges);
+  sc.v.resize(2 * edges);
+  {
+    size_t e = 0, phase = 0;
+    for (size_t k = 0; k < m; ++k) {
+      if (final_inliers[k] == 0) continue;
+      const bool take = phase == 0;
+      if (++phase == stride) phase = 0;
+      if (!take) continue;
+      const auto& r = runs[static_cast<size_t>(pts.run[k])];
+      sc.u[e] = r.x_start - 0.5;
+      sc.u[edges + e] = r.x_end + 0.5;
+      sc.v[e] = sc.v[edges + e] = r.row;
+      ++e;
+    }
+  }
+  Points& left = sc.left;
+  Points& right = sc.right;
+  left.resize(edges);
+  right.resize(edges);
+  const std::span<const double> u_all(sc.u), v_all(sc.v);
+  cam.normalise(u_all.first(edges), v_all.first(edges), left.x, left.y);
+  cam.normalise(u_all.last(edges), v_all.last(edges), right.x, right.y);
+  std::fill(left.weight.begin(), left.weight.end(), 1.0);
+  std::fill(right.weight.begin(), right.weight.end(), 1.0);
+  Mask& all = sc.mask_b;
+  all.assign(edges, 1);
+  const LineFit fl = fit_x_on_y(left, all), fr = fit_x_on_y(right, all);
+  if (!fl.ok || !fr.ok) return;
+  Eigen::Vector3d v = Eigen::Vector3d(1.0, -fl.a, -fl.b).cross(Eigen::Vector3d(1.0, -fr.a, -fr.b));
+  if (v.y() < 0.0) v = -v;
+  if (v.allFinite() && v.y() > 1e-12 * v.norm()) {
+    const double pe = std::atan2(v.y(), v.z());
+    if (pe > 0.0 && pe < 0.5 * kPi + 0.2) {
+      out.pitch_est_valid = true;
+      out.pitch_est_rad = pe;
+    }
+  }
+}
+
+}  // namespace
+
+Status pose_from_centre_line(const Eigen::Vector3d& line, double pitch_rad,
+                             double ceiling_above_camera_m, double max_abs_yaw_rad, double& yaw_rad,
+                             double& offset_m) {
+  if (!line.allFinite()) return Status::degenerate;
+  const double sp = std::sin(pitch_rad), cp = std::cos(pitch_rad);
+  const double l1 = line.x(), l2 = line.y(), l3 = line.z();
+  // The back-projected plane has world normal n = R^T l; it contains +X:
+  //   n_x = l1 sin psi + cos psi (l2 sin p + l3 cos p) = 0.
+  const double num = -(l2 * sp + l3 * cp);
+  if (!(std::abs(l1) > 0.0) || std::abs(num) > std::tan(max_abs_yaw_rad) * std::abs(l1)) {
+    return Status::degenerate;
+  }
+  const double yaw = std::atan(num / l1);
+  // It contains the tape (s, -offset, c) relative to the camera:
+  //   offset = n_z c / n_y,  n_y = -l1 / cos psi,  n_z = -l2 cos p + l3 sin p.
+  const double offset = ceiling_above_camera_m * std::cos(yaw) * (l2 * cp - l3 * sp) / l1;
+  if (!std::isfinite(yaw) || !std::isfinite(offset)) return Status::degenerate;
+  yaw_rad = yaw;
+  offset_m = offset;
+  return Status::ok;
+}
+
+TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const CameraModel& cam,
+                            const CameraConfig& cfg, const TapePoseOptions& opt) {
+  TapePose out;
+  out.method = "runs_centre_line";
+  out.pitch_rad = cfg.camera_pitch_deg * kDegToRad;
+  out.points_total = static_cast<int>(runs.size());
+  if (runs.empty()) {
+    out.status = Status::no_tape;
+    return out;
+  }
+  Geometry g;
+  g.sp = std::sin(out.pitch_rad);
+  g.cp = std::cos(out.pitch_rad);
+  g.c = cfg.ceiling_above_camera_m();
+  if (!(g.c > 0.0)) {
+    out.status = Status::bad_config;
+    return out;
+  }
+  g.width = cfg.image_width;
+  g.height = cfg.image_height;
+
+  Scratch& sc = scratch();
+  const size_t n = runs.size();
+  // Runs into chains, each chain's heading, the centre-line points.
+  sort_runs(runs, sc);
+  link_chains(n, sc);
+  chain_extents(n, sc);
+  undistort_run_centres(runs, cam, sc);
+  fit_chain_headings(n, g, opt, sc);
+  gate_centre_points(runs, cam, cfg, opt, g, sc);
+  collect_points(runs, sc);
+  const Points& pts = sc.pts;
+  const int usable_total = static_cast<int>(pts.size());
+
+  // Candidate lines from the largest chains; the tape among them.
+  largest_chains(n, sc);
+  const Status too_few = status_when_too_few(opt, sc);
+  if (usable_total < opt.min_points || sc.comps.empty()) {
+    out.status = too_few;
+    out.points_used = usable_total;
+    return out;
+  }
+  InlierFits fits(pts, opt.max_residual_px / cam.fx(), sc.memo);
+  fit_candidates(opt, fits, sc);
+  if (sc.cands.empty()) {
+    out.status = Status::degenerate;
+    return out;
+  }
+  const LineFit line = choose_tape(sc.cands, opt.tie_fraction);
+
+  // Final statistics on the inliers; the gates on them.
+  Mask& final_inliers = sc.mask_a;
+  fits.inliers(line, final_inliers);
+  const InlierStats stats = inlier_statistics(pts, final_inliers, line, cam.fx());
+  out.points_used = stats.used;
+  out.residual_rms_px = stats.used > 0 ? std::sqrt(stats.ss / stats.used) : 0.0;
   {
     const double norm = std::sqrt(1.0 + line.a * line.a);
     out.line_norm = Eigen::Vector3d(1.0, -line.a, -line.b) / norm;
   }
-  if (used < opt.min_points) {
+  if (stats.used < opt.min_points) {
     out.status = too_few;
     return out;
   }
-  if (row_max - row_min < opt.min_row_span_px) {
+  if (stats.row_max - stats.row_min < opt.min_row_span_px) {
     out.status = Status::degenerate;
     return out;
   }
-  // Standard error of the yaw from the scatter of the inliers about the line
-  // (unweighted least squares, residuals taken as independent): with
-  // s^2 = sum r^2 / (N - 2), var a = s^2 / S_yy, var b = s^2 (1/N + mean_y^2 / S_yy),
-  // cov(a, b) = -mean_y s^2 / S_yy, and tan psi = a sin p + b cos p.
-  {
-    const double nn = used, mean_y = sy / nn, s_yy = syy - nn * mean_y * mean_y;
-    const double s2 = used > 2 ? ss / (cam.fx() * cam.fx()) / (nn - 2.0) : 0.0;
-    const double tan_yaw = line.a * sp + line.b * cp;
-    if (s_yy > 0.0) {
-      const double var_tan = s2 * (sp * sp / s_yy + cp * cp * (1.0 / nn + mean_y * mean_y / s_yy) -
-                                   2.0 * sp * cp * mean_y / s_yy);
-      const double sigma = std::sqrt(std::max(0.0, var_tan)) / (1.0 + tan_yaw * tan_yaw);
-      if (std::isfinite(sigma)) out.yaw_sigma_rad = sigma;
-    }
-  }
+  out.yaw_sigma_rad = yaw_sigma(stats, line, cam.fx(), g);
   if (out.yaw_sigma_rad > opt.max_yaw_sigma_deg * kDegToRad) {
     out.status = Status::too_few_points;
     return out;
   }
-  const Status st = pose_from_centre_line(
-      out.line_norm, out.pitch_rad, c, opt.max_abs_yaw_deg * kDegToRad, out.yaw_rad, out.offset_m);
+
+  // Yaw and offset, the vanishing point, the pitch estimate.
+  const Status st =
+      pose_from_centre_line(out.line_norm, out.pitch_rad, g.c, opt.max_abs_yaw_deg * kDegToRad,
+                            out.yaw_rad, out.offset_m);
   if (st != Status::ok) {
     out.status = st;
     return out;
   }
   // Vanishing point of +X: normalised (tan psi / cos p, tan p) (seed 000 eq. 24-25,
   // with y down). At the zenith it is at infinity.
-  if (cp > 1e-6) {
-    const Eigen::Vector2d vp(std::tan(out.yaw_rad) / cp, sp / cp);
-    const Eigen::Vector2d vp_px = cam.ideal_pixel(vp);
-    if (vp_px.allFinite() && vp_px.cwiseAbs().maxCoeff() < 1e9) {
-      out.vp_finite = true;
-      out.vp_u_px = vp_px.x();
-      out.vp_v_px = vp_px.y();
-    }
+  if (g.cp > 1e-6) {
+    set_vanishing_point(Eigen::Vector2d(std::tan(out.yaw_rad) / g.cp, g.sp / g.cp), cam, out);
   }
-
-  // Pitch from the left/right edge lines of the inlier runs, intersected. The
-  // +X direction in camera axes is (sin psi, sin p cos psi, cos p cos psi) so the
-  // homogeneous intersection V (scaled to V_y > 0) gives p = atan2(V_y, V_z).
-  if (opt.estimate_pitch) {
-    // The estimate is biased far beyond its noise (docs), so 48 rows suffice.
-    // Edge positions are quantised to pixels: equal noise, unit weights.
-    const size_t stride = static_cast<size_t>(std::max(1, used / 48));
-    size_t edges = 0;  // sampled inliers
-    {
-      size_t phase = 0;  // inliers seen, modulo stride
-      for (size_t k = 0; k < m; ++k) {
-        if (final_inliers[k] == 0) continue;
-        if (phase == 0) ++edges;
-        if (++phase == stride) phase = 0;
-      }
-    }
-    // Left edges in u/v [0, edges), right edges in [edges, 2 edges).
-    sc.u.resize(2 * edges);
-    sc.v.resize(2 * edges);
-    {
-      size_t e = 0, phase = 0;
-      for (size_t k = 0; k < m; ++k) {
-        if (final_inliers[k] == 0) continue;
-        const bool take = phase == 0;
-        if (++phase == stride) phase = 0;
-        if (!take) continue;
-        const auto& r = runs[static_cast<size_t>(pts.run[k])];
-        sc.u[e] = r.x_start - 0.5;
-        sc.u[edges + e] = r.x_end + 0.5;
-        sc.v[e] = sc.v[edges + e] = r.row;
-        ++e;
-      }
-    }
-    Points& left = sc.left;
-    Points& right = sc.right;
-    left.resize(edges);
-    right.resize(edges);
-    const std::span<const double> u_all(sc.u), v_all(sc.v);
-    cam.normalise(u_all.first(edges), v_all.first(edges), left.x, left.y);
-    cam.normalise(u_all.last(edges), v_all.last(edges), right.x, right.y);
-    std::fill(left.weight.begin(), left.weight.end(), 1.0);
-    std::fill(right.weight.begin(), right.weight.end(), 1.0);
-    Mask& all = sc.mask_b;
-    all.assign(edges, 1);
-    const LineFit fl = fit_x_on_y(left, all), fr = fit_x_on_y(right, all);
-    if (fl.ok && fr.ok) {
-      Eigen::Vector3d v =
-          Eigen::Vector3d(1.0, -fl.a, -fl.b).cross(Eigen::Vector3d(1.0, -fr.a, -fr.b));
-      if (v.y() < 0.0) v = -v;
-      if (v.allFinite() && v.y() > 1e-12 * v.norm()) {
-        const double pe = std::atan2(v.y(), v.z());
-        if (pe > 0.0 && pe < 0.5 * kPi + 0.2) {
-          out.pitch_est_valid = true;
-          out.pitch_est_rad = pe;
-        }
-      }
-    }
-  }
+  if (opt.estimate_pitch) pitch_from_edges(runs, cam, final_inliers, stats.used, sc, out);
   out.status = Status::ok;
   return out;
 }
@@ -700,13 +838,8 @@ TapePose zenith_pose_from_moments(const stream::MomentResults& m, const CameraMo
   if (st != Status::ok) return out;
   const double cp = std::cos(out.pitch_rad);
   if (cp > 1e-6) {
-    const Eigen::Vector2d vp(std::tan(out.yaw_rad) / cp, std::tan(out.pitch_rad));
-    const Eigen::Vector2d vp_px = cam.ideal_pixel(vp);
-    if (vp_px.allFinite() && vp_px.cwiseAbs().maxCoeff() < 1e9) {
-      out.vp_finite = true;
-      out.vp_u_px = vp_px.x();
-      out.vp_v_px = vp_px.y();
-    }
+    set_vanishing_point(Eigen::Vector2d(std::tan(out.yaw_rad) / cp, std::tan(out.pitch_rad)), cam,
+                        out);
   }
   return out;
 }
