@@ -8,10 +8,8 @@
 namespace ceilnav::host::pattern {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-}  // namespace
 
-namespace {
+constexpr double kPi = std::numbers::pi;
 
 // Centroid and covariance (pixels) -> normalised: the centroid through the
 // model, the covariance through the Jacobian of the undistortion there
