@@ -1,3 +1,5 @@
+// read_barcode_with_pose (barcode.hpp): the bar code read on the pattern
+// plane from the disc's pose (docs/pattern.md, plane reader).
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>

@@ -1,3 +1,5 @@
+// read_barcode (barcode.hpp): the bar code read along the image rows, each
+// row's two blocks decoded from their edges (docs/pattern.md, bar-code reader).
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
