@@ -1,0 +1,173 @@
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "host/tape_pose_steps.hpp"
+
+namespace ceilnav::host::tape_steps {
+
+LineFit fit_x_on_y(const Points& pts, const Mask& use) {
+  const size_t m = pts.size();
+  int n = 0;
+  double sw = 0.0, sy = 0.0, sx = 0.0;
+  for (size_t k = 0; k < m; ++k) {
+    if (use[k] == 0) continue;
+    ++n;
+    sw += pts.weight[k];
+    sy += pts.weight[k] * pts.y[k];
+    sx += pts.weight[k] * pts.x[k];
+  }
+  LineFit f;
+  if (n < 2 || !(sw > 0.0)) return f;
+  const double my = sy / sw, mx = sx / sw;
+  double syy = 0.0, sxy = 0.0;
+  for (size_t k = 0; k < m; ++k) {
+    if (use[k] == 0) continue;
+    syy += pts.weight[k] * (pts.y[k] - my) * (pts.y[k] - my);
+    sxy += pts.weight[k] * (pts.y[k] - my) * (pts.x[k] - mx);
+  }
+  if (!(syy > 1e-18 * sw)) return f;  // all points on one row: slope undefined
+  f.a = sxy / syy;
+  f.b = mx - f.a * my;
+  f.ok = std::isfinite(f.a) && std::isfinite(f.b);
+  return f;
+}
+
+void fit_candidates(const TapePoseOptions& opt, InlierFits& fits, Scratch& sc) {
+  const Points& pts = sc.pts;
+  const size_t m = pts.size();
+  Mask& cur = sc.mask_a;
+  Mask& next = sc.mask_b;
+  std::vector<Candidate>& cands = sc.cands;
+  cands.clear();
+  for (const auto& [count, comp_root] : sc.comps) {
+    cur.resize(m);
+    uint8_t* const in = cur.data();
+    const int* const pc = pts.comp.data();
+    for (size_t k = 0; k < m; ++k) in[k] = pc[k] == comp_root ? 1 : 0;
+    LineFit f = fits.fit(cur);
+    if (!f.ok) continue;
+    // Trim the chain's own outliers (noise stuck to the tape) before growing.
+    // `cur` is the set f was fitted on; `next` is inlier(f).
+    bool next_is_inliers = false;
+    for (int it = 0; it < opt.refine_iterations && f.ok; ++it) {
+      fits.inliers(f, next);
+      next_is_inliers = true;
+      if (next == cur) break;  // the refit would give f again
+      const LineFit g = fits.fit(next);
+      if (!g.ok) break;
+      f = g;
+      std::swap(cur, next);
+      next_is_inliers = false;
+    }
+    if (!f.ok) continue;
+    if (!next_is_inliers) fits.inliers(f, next);
+    Candidate cand;
+    cand.line = f;
+    cand.support = static_cast<int>(std::count(next.begin(), next.end(), uint8_t{1}));
+    // Distance of the principal point (0, 0) from the line x = a y + b.
+    cand.dist_to_centre = std::abs(f.b) / std::sqrt(1.0 + f.a * f.a);
+    cands.push_back(cand);
+  }
+}
+
+LineFit choose_tape(const std::vector<Candidate>& cands, double tie_fraction) {
+  int best_support = 0;
+  for (const Candidate& cd : cands) best_support = std::max(best_support, cd.support);
+  const Candidate* best = nullptr;
+  for (const Candidate& cd : cands) {
+    if (cd.support < (1.0 - tie_fraction) * best_support) continue;
+    if (best == nullptr || cd.dist_to_centre < best->dist_to_centre) best = &cd;
+  }
+  return best->line;
+}
+
+InlierStats inlier_statistics(const Points& pts, const Mask& inliers, const LineFit& line,
+                              double fx) {
+  InlierStats s;
+  for (size_t k = 0; k < pts.size(); ++k) {
+    if (inliers[k] == 0) continue;
+    ++s.used;
+    s.row_min = std::min(s.row_min, pts.row[k]);
+    s.row_max = std::max(s.row_max, pts.row[k]);
+    const double r = (pts.x[k] - (line.a * pts.y[k] + line.b)) * fx;
+    s.ss += r * r;
+    s.sy += pts.y[k];
+    s.syy += pts.y[k] * pts.y[k];
+  }
+  return s;
+}
+
+double yaw_sigma(const InlierStats& s, const LineFit& line, double fx, const Geometry& g) {
+  const double sp = g.sp, cp = g.cp;
+  const double nn = s.used, mean_y = s.sy / nn, s_yy = s.syy - nn * mean_y * mean_y;
+  const double s2 = s.used > 2 ? s.ss / (fx * fx) / (nn - 2.0) : 0.0;
+  const double tan_yaw = line.a * sp + line.b * cp;
+  if (s_yy > 0.0) {
+    const double var_tan = s2 * (sp * sp / s_yy + cp * cp * (1.0 / nn + mean_y * mean_y / s_yy) -
+                                 2.0 * sp * cp * mean_y / s_yy);
+    const double sigma = std::sqrt(std::max(0.0, var_tan)) / (1.0 + tan_yaw * tan_yaw);
+    if (std::isfinite(sigma)) return sigma;
+  }
+  return 0.0;
+}
+
+void pitch_from_edges(std::span<const stream::RunRecord> runs, const CameraModel& cam,
+                      const Mask& final_inliers, int used, Scratch& sc, TapePose& out) {
+  const Points& pts = sc.pts;
+  const size_t m = pts.size();
+  // The estimate is biased far beyond its noise (docs), so 48 rows suffice.
+  // Edge positions are quantised to pixels: equal noise, unit weights.
+  const size_t stride = static_cast<size_t>(std::max(1, used / 48));
+  size_t edges = 0;  // sampled inliers
+  {
+    size_t phase = 0;  // inliers seen, modulo stride
+    for (size_t k = 0; k < m; ++k) {
+      if (final_inliers[k] == 0) continue;
+      if (phase == 0) ++edges;
+      if (++phase == stride) phase = 0;
+    }
+  }
+  // Left edges in u/v [0, edges), right edges in [edges, 2 edges).
+  sc.u.resize(2 * edges);
+  sc.v.resize(2 * edges);
+  {
+    size_t e = 0, phase = 0;
+    for (size_t k = 0; k < m; ++k) {
+      if (final_inliers[k] == 0) continue;
+      const bool take = phase == 0;
+      if (++phase == stride) phase = 0;
+      if (!take) continue;
+      const auto& r = runs[static_cast<size_t>(pts.run[k])];
+      sc.u[e] = r.x_start - 0.5;
+      sc.u[edges + e] = r.x_end + 0.5;
+      sc.v[e] = sc.v[edges + e] = r.row;
+      ++e;
+    }
+  }
+  Points& left = sc.left;
+  Points& right = sc.right;
+  left.resize(edges);
+  right.resize(edges);
+  const std::span<const double> u_all(sc.u), v_all(sc.v);
+  cam.normalise(u_all.first(edges), v_all.first(edges), left.x, left.y);
+  cam.normalise(u_all.last(edges), v_all.last(edges), right.x, right.y);
+  std::fill(left.weight.begin(), left.weight.end(), 1.0);
+  std::fill(right.weight.begin(), right.weight.end(), 1.0);
+  Mask& all = sc.mask_b;
+  all.assign(edges, 1);
+  const LineFit fl = fit_x_on_y(left, all), fr = fit_x_on_y(right, all);
+  if (!fl.ok || !fr.ok) return;
+  Eigen::Vector3d v = Eigen::Vector3d(1.0, -fl.a, -fl.b).cross(Eigen::Vector3d(1.0, -fr.a, -fr.b));
+  if (v.y() < 0.0) v = -v;
+  if (v.allFinite() && v.y() > 1e-12 * v.norm()) {
+    const double pe = std::atan2(v.y(), v.z());
+    if (pe > 0.0 && pe < 0.5 * kPi + 0.2) {
+      out.pitch_est_valid = true;
+      out.pitch_est_rad = pe;
+    }
+  }
+}
+
+}  // namespace ceilnav::host::tape_steps
