@@ -523,13 +523,8 @@ module moment_gen (
     end
   end
 
-  logic [4:0] step_word;
-  always_comb begin
-    step_word = '0;
-    for (int unsigned k = 0; k < MomWords; k++) begin
-      if (wr_step_q == 5'(k)) step_word = WordOrder[5*k +: 5];
-    end
-  end
+  logic [4:0] step_word;  // WordOrder entry of wr_step_q (read only while writing)
+  assign step_word = WordOrder[5*wr_step_q +: 5];
 
   assign done_o          = done_q;
   assign mom_wr_valid_o  = wr_active_q;

@@ -365,13 +365,8 @@ module pipeline #(
   end
 
   // The write port: moment words first, then the meta chain's head.
-  logic [3:0] meta_index;
-  always_comb begin
-    meta_index = '0;
-    for (int unsigned k = 0; k < MetaWords; k++) begin
-      if (meta_step_q == 4'(k)) meta_index = MetaOrder[4*k +: 4];
-    end
-  end
+  logic [3:0] meta_index;  // MetaOrder entry of meta_step_q (< MetaWords while writing)
+  assign meta_index = MetaOrder[4*meta_step_q +: 4];
   assign res_wr_valid_o = mom_wr_valid | meta_wr;
   assign res_wr_addr_o  = mom_wr_valid ? 8'(mom_wr_index)
                                        : ResMetaBase + {3'd0, ~res_bank_q, meta_index};
