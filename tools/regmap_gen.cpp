@@ -333,6 +333,20 @@ std::string markdown(const RegMap& m) {
     }
     o << "\n";
   }
+  if (!m.ports.empty()) {
+    o << "Read ports (registers the hardware serves from its own store, one word per read,\n"
+      << "one edge after the read strobe; a port with wait can hold a read):\n\n"
+      << "| port | wait | words | description |\n|---|---|---|---|\n";
+    for (const Port& p : m.ports) {
+      std::string regs;
+      for (const Register& r : m.registers) {
+        if (r.port == p.name) regs += std::string(regs.empty() ? "" : ", ") + r.name;
+      }
+      o << "| " << p.name << " | " << (p.wait ? "yes" : "no") << " | " << regs << " | "
+        << md_escape(p.desc) << " |\n";
+    }
+    o << "\n";
+  }
   if (!m.interrupts.state.empty()) {
     o << "Interrupt: " << m.interrupts.state << " (w1c, set by hardware and by writing 1 to "
       << m.interrupts.test << "), " << m.interrupts.enable << "; `irq = |(" << m.interrupts.state
@@ -388,6 +402,10 @@ std::string markdown(const RegMap& m) {
     }
     if (r.external) {
       o << "External: the value is the hardware's read port, one edge after the read strobe.\n\n";
+    }
+    if (!r.port.empty()) {
+      o << "Read through the port `" << r.port << "`"
+        << (m.port(r.port)->wait ? " (a read may wait)" : "") << ".\n\n";
     }
     o << "| bits | field | access | reset | description |\n|---|---|---|---|---|\n";
     for (const Field& f : r.fields) {
