@@ -24,6 +24,7 @@
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/camera_config_io.hpp"
+#include "host/csv.hpp"
 #include "host/flow_height.hpp"
 #include "host/frame_io.hpp"
 #include "host/navigator.hpp"
@@ -358,8 +359,9 @@ int run_accuracy(const AccuracyOptions& o) {
   std::unique_ptr<AtomicFile> csv;
   if (!o.csv.empty()) {
     csv = std::make_unique<AtomicFile>(o.csv);
-    csv->stream() << "frame,pitch_deg,yaw_true_rad,offset_true_m,noise,blur,status,yaw_err_deg,"
-                     "offset_err_mm,points_used\n";
+    host::CsvWriter(csv->stream())
+        .row({"frame", "pitch_deg", "yaw_true_rad", "offset_true_m", "noise", "blur", "status",
+              "yaw_err_deg", "offset_err_mm", "points_used"});
   }
   Rms yaw_all, off_all;
   std::map<int, std::pair<Rms, Rms>> by_pitch;  // 10-degree bins
@@ -396,11 +398,16 @@ int run_accuracy(const AccuracyOptions& o) {
       bin.second.add(eo);
     }
     if (csv) {
-      csv->stream() << i << ',' << s.pitch_deg << ',' << truth.yaw_rad << ',' << truth.offset_m
-                    << ',' << s.noise << ',' << s.blur << ',' << status << ','
-                    << (status == "ok" ? std::to_string(ey / kDeg) : "") << ','
-                    << (status == "ok" ? std::to_string(eo * 1000.0) : "") << ','
-                    << r.pose.points_used << '\n';
+      // Truth and sample columns: 6 significant digits; errors: 6 decimals.
+      host::CsvWriter w(csv->stream());
+      w.integer(i).general(s.pitch_deg, 6).general(truth.yaw_rad, 6).general(truth.offset_m, 6);
+      w.general(s.noise, 6).general(s.blur, 6).text(status);
+      if (status == "ok") {
+        w.fixed(ey / kDeg, 6).fixed(eo * 1000.0, 6);
+      } else {
+        w.empty().empty();
+      }
+      w.integer(r.pose.points_used).end_row();
     }
     progress.update(static_cast<size_t>(i + 1));
   }

@@ -24,6 +24,7 @@
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
+#include "host/csv.hpp"
 #include "host/device.hpp"
 #include "host/frame_io.hpp"
 #include "host/pattern/pattern_frame.hpp"
@@ -126,7 +127,7 @@ std::string frame_name_png(int i) {
   return buf;
 }
 
-std::string fmt(double v, int digits) {
+std::string fixed_text(double v, int digits) {
   if (!std::isfinite(v)) return "";
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << v;
@@ -291,19 +292,39 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
 
   if (!o.csv.empty()) {
     AtomicFile f(o.csv);
-    f.stream() << "d_m,theta_deg,beta_deg,seed_set,identity,read,code_status,code_in_view,"
-                  "min_bar_px,proj_d_err_pct,proj_theta_err_deg,moment_d_err_pct,"
-                  "moment_theta_err_deg,conic_d_err_pct,conic_theta_err_deg,bars_d_err_pct,"
-                  "bars_theta_err_deg,moment_beta_ok,conic_beta_ok,bars_beta_ok\n";
+    host::CsvWriter w(f.stream());
+    w.row({"d_m",
+           "theta_deg",
+           "beta_deg",
+           "seed_set",
+           "identity",
+           "read",
+           "code_status",
+           "code_in_view",
+           "min_bar_px",
+           "proj_d_err_pct",
+           "proj_theta_err_deg",
+           "moment_d_err_pct",
+           "moment_theta_err_deg",
+           "conic_d_err_pct",
+           "conic_theta_err_deg",
+           "bars_d_err_pct",
+           "bars_theta_err_deg",
+           "moment_beta_ok",
+           "conic_beta_ok",
+           "bars_beta_ok"});
     for (const Row& r : rows) {
-      f.stream() << r.d << ',' << r.theta << ',' << fmt(r.beta, 3) << ',' << r.seed_set << ','
-                 << r.identity << ',' << r.read << ',' << r.code_status << ',' << r.code_visible
-                 << ',' << fmt(r.bar_px, 2);
+      w.general(r.d, 6).general(r.theta, 6).fixed(r.beta, 3).integer(r.seed_set);
+      w.integer(r.identity).integer(r.read).text(r.code_status).integer(r.code_visible);
+      w.fixed(r.bar_px, 2);
       for (int m = 0; m < 4; ++m) {
-        f.stream() << ',' << (r.ok[m] ? fmt(r.err[m][0], 4) : "") << ','
-                   << (r.ok[m] ? fmt(r.err[m][1], 4) : "");
+        if (r.ok[m]) {
+          w.fixed(r.err[m][0], 4).fixed(r.err[m][1], 4);
+        } else {
+          w.empty().empty();
+        }
       }
-      f.stream() << ',' << r.beta_ok[1] << ',' << r.beta_ok[2] << ',' << r.beta_ok[3] << '\n';
+      w.integer(r.beta_ok[1]).integer(r.beta_ok[2]).integer(r.beta_ok[3]).end_row();
     }
     f.commit();
   }
@@ -413,13 +434,18 @@ FixRow make_fix(const Analysis& a, const gp::PatternDatabase& db, const Eigen::V
 
 void write_fix_csv(const fs::path& path, const std::vector<FixRow>& rows) {
   AtomicFile f(path);
-  f.stream() << "frame,pan_deg,status,identity,code_status,d_m,theta_deg,beta_deg,x_m,y_m,"
-                "heading_deg\n";
+  host::CsvWriter w(f.stream());
+  w.row({"frame", "pan_deg", "status", "identity", "code_status", "d_m", "theta_deg", "beta_deg",
+         "x_m", "y_m", "heading_deg"});
   for (const FixRow& r : rows) {
-    f.stream() << r.frame << ',' << fmt(r.pan_deg, 3) << ',' << r.status << ','
-               << (r.identity >= 0 ? std::to_string(r.identity) : "") << ',' << r.code_status << ','
-               << fmt(r.d, 5) << ',' << fmt(r.theta, 4) << ',' << fmt(r.beta, 4) << ','
-               << fmt(r.x, 4) << ',' << fmt(r.y, 4) << ',' << fmt(r.heading, 4) << '\n';
+    w.text(r.frame).fixed(r.pan_deg, 3).text(r.status);
+    if (r.identity >= 0) {
+      w.integer(r.identity);
+    } else {
+      w.empty();
+    }
+    w.text(r.code_status).fixed(r.d, 5).fixed(r.theta, 4).fixed(r.beta, 4);
+    w.fixed(r.x, 4).fixed(r.y, 4).fixed(r.heading, 4).end_row();
   }
   f.commit();
 }
@@ -428,10 +454,12 @@ std::string fix_text(const FixRow& r) {
   std::ostringstream s;
   s << r.status;
   if (r.identity >= 0) s << " id " << r.identity;
-  if (std::isfinite(r.d)) s << "  D " << fmt(r.d, 3) << " m  theta " << fmt(r.theta, 2);
-  if (std::isfinite(r.beta)) s << "  beta " << fmt(r.beta, 1);
+  if (std::isfinite(r.d))
+    s << "  D " << fixed_text(r.d, 3) << " m  theta " << fixed_text(r.theta, 2);
+  if (std::isfinite(r.beta)) s << "  beta " << fixed_text(r.beta, 1);
   if (std::isfinite(r.x)) {
-    s << "  x " << fmt(r.x, 3) << " y " << fmt(r.y, 3) << " heading " << fmt(r.heading, 2);
+    s << "  x " << fixed_text(r.x, 3) << " y " << fixed_text(r.y, 3) << " heading "
+      << fixed_text(r.heading, 2);
   }
   return s.str();
 }
@@ -576,11 +604,11 @@ int run_pattern(const PatternOptions& o) {
   write_fix_csv(out / "pattern.csv", rows);
   {
     AtomicFile f(out / "truth.csv");
-    f.stream() << "frame,d_m,theta_deg,beta_deg,identity,disc_in_view,code_in_view\n";
+    host::CsvWriter w(f.stream());
+    w.row({"frame", "d_m", "theta_deg", "beta_deg", "identity", "disc_in_view", "code_in_view"});
     for (const auto& [name, t] : truths) {
-      f.stream() << name << ',' << fmt(t.d_m, 5) << ',' << fmt(t.theta_rad / kDeg, 4) << ','
-                 << fmt(t.beta_rad / kDeg, 4) << ',' << t.identity << ',' << t.disc_in_view << ','
-                 << t.code_in_view << '\n';
+      w.text(name).fixed(t.d_m, 5).fixed(t.theta_rad / kDeg, 4).fixed(t.beta_rad / kDeg, 4);
+      w.integer(t.identity).integer(t.disc_in_view).integer(t.code_in_view).end_row();
     }
     f.commit();
   }

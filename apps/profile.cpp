@@ -24,6 +24,7 @@
 #include "host/auto_threshold.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
+#include "host/csv.hpp"
 #include "host/driver.hpp"
 #include "host/frame_io.hpp"
 #include "host/model_bus.hpp"
@@ -371,63 +372,101 @@ double sum_of(const std::vector<FrameProfile>& v, F get) {
   return sum;
 }
 
-const char* kFrameCsvHeader =
-    "frame,cycles,tvalid_cycles,accepted,pixels_per_valid_cycle,bubbles,pixels_counted,"
-    "device_cycles,eof_to_irq_cycles,eof_to_irq_register,fifo_high_water,runs_dropped_overflow,"
-    "runs_dropped_row_limit,runs_emitted,runs,run_beats,run_stall_cycles,words_read,"
-    "words_written,configure_cycles,readout_cycles,host_cycles,frame_ok,host_driver_us,"
-    "host_pose_us,pose_status\n";
-
-void write_frame_row(std::ostream& os, size_t i, const FrameProfile& f) {
-  char pose[16], drv[32], ii[32];
-  std::snprintf(drv, sizeof drv, "%.1f", f.host_driver_us);
-  std::snprintf(pose, sizeof pose, "%.1f", f.host_pose_us);
-  std::snprintf(ii, sizeof ii, "%.6f", f.pixels_per_valid_cycle());
-  os << i << ',' << f.cycles << ',' << f.tvalid_cycles << ',' << f.accepted << ',' << ii << ','
-     << f.bubbles << ',' << f.pixels_counted << ',' << f.device_cycles << ',' << f.eof_to_irq_cycles
-     << ',' << f.eof_to_irq_register << ',' << f.fifo_high_water << ',' << f.runs_dropped_overflow
-     << ',' << f.runs_dropped_row_limit << ',' << f.runs_emitted << ',' << f.runs << ','
-     << f.run_beats << ',' << f.run_stall_cycles << ',' << f.words_read << ',' << f.words_written
-     << ',' << f.configure_cycles << ',' << f.readout_cycles << ',' << f.host_cycles << ','
-     << (f.frame_ok ? 1 : 0) << ',' << drv << ',' << pose << ',' << host::to_string(f.pose_status)
-     << '\n';
+void write_frame_header(host::CsvWriter& w) {
+  w.row({"frame",
+         "cycles",
+         "tvalid_cycles",
+         "accepted",
+         "pixels_per_valid_cycle",
+         "bubbles",
+         "pixels_counted",
+         "device_cycles",
+         "eof_to_irq_cycles",
+         "eof_to_irq_register",
+         "fifo_high_water",
+         "runs_dropped_overflow",
+         "runs_dropped_row_limit",
+         "runs_emitted",
+         "runs",
+         "run_beats",
+         "run_stall_cycles",
+         "words_read",
+         "words_written",
+         "configure_cycles",
+         "readout_cycles",
+         "host_cycles",
+         "frame_ok",
+         "host_driver_us",
+         "host_pose_us",
+         "pose_status"});
 }
 
-const char* kSummaryCsvHeader =
-    "scenario,backend,width,height,blanking,gap_probability,backpressure,tapes,frames,"
-    "cycles_min,cycles_max,pixels_per_valid_cycle_min,bubbles_total,eof_to_irq_min,"
-    "eof_to_irq_max,fifo_high_water_max,runs_dropped_overflow_total,runs_mean,"
-    "run_stall_cycles_mean,words_read_mean,words_written_mean,configure_cycles_mean,"
-    "readout_cycles_mean,vertical_blanking_cycles,host_driver_us_median,host_pose_us_median,"
-    "violations\n";
+void write_frame_row(host::CsvWriter& w, size_t i, const FrameProfile& f) {
+  w.integer(i).integer(f.cycles).integer(f.tvalid_cycles).integer(f.accepted);
+  w.fixed(f.pixels_per_valid_cycle(), 6).integer(f.bubbles).integer(f.pixels_counted);
+  w.integer(f.device_cycles).integer(f.eof_to_irq_cycles).integer(f.eof_to_irq_register);
+  w.integer(f.fifo_high_water).integer(f.runs_dropped_overflow).integer(f.runs_dropped_row_limit);
+  w.integer(f.runs_emitted).integer(f.runs).integer(f.run_beats).integer(f.run_stall_cycles);
+  w.integer(f.words_read).integer(f.words_written).integer(f.configure_cycles);
+  w.integer(f.readout_cycles).integer(f.host_cycles).integer(f.frame_ok);
+  w.fixed(f.host_driver_us, 1).fixed(f.host_pose_us, 1).text(host::to_string(f.pose_status));
+  w.end_row();
+}
 
-void write_summary_row(std::ostream& os, const Summary& m, const std::string& backend) {
+void write_summary_header(host::CsvWriter& w) {
+  w.row({"scenario",
+         "backend",
+         "width",
+         "height",
+         "blanking",
+         "gap_probability",
+         "backpressure",
+         "tapes",
+         "frames",
+         "cycles_min",
+         "cycles_max",
+         "pixels_per_valid_cycle_min",
+         "bubbles_total",
+         "eof_to_irq_min",
+         "eof_to_irq_max",
+         "fifo_high_water_max",
+         "runs_dropped_overflow_total",
+         "runs_mean",
+         "run_stall_cycles_mean",
+         "words_read_mean",
+         "words_written_mean",
+         "configure_cycles_mean",
+         "readout_cycles_mean",
+         "vertical_blanking_cycles",
+         "host_driver_us_median",
+         "host_pose_us_median",
+         "violations"});
+}
+
+void write_summary_row(host::CsvWriter& w, const Summary& m, const std::string& backend) {
   const auto& v = m.frames;
-  char buf[1024];
-  std::snprintf(
-      buf, sizeof buf,
-      "%s,%s,%d,%d,%s,%.3f,%.3f,%d,%zu,%.0f,%.0f,%.6f,%.0f,%.0f,%.0f,%.0f,%.0f,%.1f,%.1f,%.1f,"
-      "%.1f,%.1f,%.1f,%u,%.1f,%.1f,%zu\n",
-      m.name.c_str(), backend.c_str(), m.s.width, m.s.height,
-      std::string(to_string(m.s.blanking)).c_str(),
-      m.s.blanking == Blanking::random ? m.s.gap_probability : 0.0, m.s.backpressure, m.s.tapes,
-      v.size(), min_of(v, [](const auto& f) { return f.cycles; }),
-      max_of(v, [](const auto& f) { return f.cycles; }),
-      min_of(v, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
-      sum_of(v, [](const auto& f) { return f.bubbles; }),
-      min_of(v, [](const auto& f) { return f.eof_to_irq_cycles; }),
-      max_of(v, [](const auto& f) { return f.eof_to_irq_cycles; }),
-      max_of(v, [](const auto& f) { return f.fifo_high_water; }),
-      sum_of(v, [](const auto& f) { return f.runs_dropped_overflow; }),
-      mean_of(v, [](const auto& f) { return f.runs; }),
-      mean_of(v, [](const auto& f) { return f.run_stall_cycles; }),
-      mean_of(v, [](const auto& f) { return f.words_read; }),
-      mean_of(v, [](const auto& f) { return f.words_written; }),
-      mean_of(v, [](const auto& f) { return f.configure_cycles; }),
-      mean_of(v, [](const auto& f) { return f.readout_cycles; }), frame_feed(m.s).blanking_cycles,
-      median_of(v, [](const auto& f) { return f.host_driver_us; }),
-      median_of(v, [](const auto& f) { return f.host_pose_us; }), m.problems.size());
-  os << buf;
+  w.text(m.name).text(backend).integer(m.s.width).integer(m.s.height);
+  w.text(to_string(m.s.blanking));
+  w.fixed(m.s.blanking == Blanking::random ? m.s.gap_probability : 0.0, 3);
+  w.fixed(m.s.backpressure, 3).integer(m.s.tapes).integer(v.size());
+  w.fixed(min_of(v, [](const auto& f) { return f.cycles; }), 0);
+  w.fixed(max_of(v, [](const auto& f) { return f.cycles; }), 0);
+  w.fixed(min_of(v, [](const auto& f) { return f.pixels_per_valid_cycle(); }), 6);
+  w.fixed(sum_of(v, [](const auto& f) { return f.bubbles; }), 0);
+  w.fixed(min_of(v, [](const auto& f) { return f.eof_to_irq_cycles; }), 0);
+  w.fixed(max_of(v, [](const auto& f) { return f.eof_to_irq_cycles; }), 0);
+  w.fixed(max_of(v, [](const auto& f) { return f.fifo_high_water; }), 0);
+  w.fixed(sum_of(v, [](const auto& f) { return f.runs_dropped_overflow; }), 0);
+  w.fixed(mean_of(v, [](const auto& f) { return f.runs; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.run_stall_cycles; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.words_read; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.words_written; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.configure_cycles; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.readout_cycles; }), 1);
+  w.integer(frame_feed(m.s).blanking_cycles);
+  w.fixed(median_of(v, [](const auto& f) { return f.host_driver_us; }), 1);
+  w.fixed(median_of(v, [](const auto& f) { return f.host_pose_us; }), 1);
+  w.integer(m.problems.size()).end_row();
 }
 
 void print_summary(const Summary& m, const std::string& backend) {
@@ -641,14 +680,16 @@ int run_profile(const ProfileOptions& o) {
     // Every file is staged and renamed into place together (OutputFolder).
     OutputFolder folder(out);
     AtomicFile csv(folder.path("profile.csv"));
-    csv.stream() << kFrameCsvHeader;
+    host::CsvWriter frames_csv(csv.stream());
+    write_frame_header(frames_csv);
     for (size_t i = 0; i < main_run.frames.size(); ++i) {
-      write_frame_row(csv.stream(), i, main_run.frames[i]);
+      write_frame_row(frames_csv, i, main_run.frames[i]);
     }
     AtomicFile summary(folder.path("profile_summary.csv"));
-    summary.stream() << kSummaryCsvHeader;
-    write_summary_row(summary.stream(), main_run, o.backend);
-    for (const Summary& m : sweep) write_summary_row(summary.stream(), m, o.backend);
+    host::CsvWriter summary_csv(summary.stream());
+    write_summary_header(summary_csv);
+    write_summary_row(summary_csv, main_run, o.backend);
+    for (const Summary& m : sweep) write_summary_row(summary_csv, m, o.backend);
 
     const auto& v = main_run.frames;
     const std::vector<double> x = frame_axis(v.size());
