@@ -78,7 +78,10 @@ hp::PoseOptions pose_options_for(const gp::PatternGeometry& g) {
 }
 
 void write_png_file(const fs::path& path, const cv::Mat& image) {
-  const std::vector<unsigned char> bytes = encode_png(image);
+  std::vector<unsigned char> bytes;
+  if (!cv::imencode(".png", image, bytes)) {
+    throw std::runtime_error("cannot encode PNG for '" + path.string() + "'");
+  }
   AtomicFile f(path);
   f.stream().write(reinterpret_cast<const char*>(bytes.data()),
                    static_cast<std::streamsize>(bytes.size()));
@@ -374,7 +377,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
       m55.y.push_back(worst);
     }
     pt.series.push_back(m55);
-    write_png_file(o.plot, stack_plots({draw_plot(pt), draw_plot(pd)}));
+    write_plots(o.plot, {pt, pd});  // with its .dat and .gp beside it
   }
   return (o.require && !pass) ? 1 : 0;
 }

@@ -554,14 +554,6 @@ void check_out_dir(const fs::path& out) {
   }
 }
 
-void write_png_atomic(const fs::path& path, const cv::Mat& img) {
-  const std::vector<unsigned char> bytes = encode_png(img);
-  AtomicFile f(path);
-  f.stream().write(reinterpret_cast<const char*>(bytes.data()),
-                   static_cast<std::streamsize>(bytes.size()));
-  f.commit();
-}
-
 }  // namespace
 
 int run_profile(const ProfileOptions& o) {
@@ -693,26 +685,24 @@ int run_profile(const ProfileOptions& o) {
 
     const auto& v = main_run.frames;
     const std::vector<double> x = frame_axis(v.size());
-    const cv::Mat latency = stack_plots(
-        {draw_plot({"Frame end (EOF pixel accepted) to irq rise",
-                    "frame",
-                    "cycles",
-                    {{"at the ports", x,
-                      column(v, [](const auto& f) { return f.eof_to_irq_cycles; }), kBlue},
-                     {"EOF_TO_IRQ_CYCLES", x,
-                      column(v, [](const auto& f) { return f.eof_to_irq_register; }), kRed}}}),
-         draw_plot({"Host readout: irq rise to the driver's last transaction",
-                    "frame",
-                    "cycles",
-                    {{"readout", x, column(v, [](const auto& f) { return f.readout_cycles; }),
-                      kGreen}}})});
-    const cv::Mat fifo = draw_plot(
+    const std::vector<PlotPanel> latency{
+        {"Frame end (EOF pixel accepted) to irq rise",
+         "frame",
+         "cycles",
+         {{"at the ports", x, column(v, [](const auto& f) { return f.eof_to_irq_cycles; }), kBlue},
+          {"EOF_TO_IRQ_CYCLES", x, column(v, [](const auto& f) { return f.eof_to_irq_register; }),
+           kRed}}},
+        {"Host readout: irq rise to the driver's last transaction",
+         "frame",
+         "cycles",
+         {{"readout", x, column(v, [](const auto& f) { return f.readout_cycles; }), kGreen}}}};
+    const std::vector<PlotPanel> fifo{
         {"Run FIFO per frame (depth " + std::to_string(regs::kRunFifoDepth) + ")",
          "frame",
          "entries / runs",
          {{"high-water", x, column(v, [](const auto& f) { return f.fifo_high_water; }), kBlue},
           {"drops (overflow)", x, column(v, [](const auto& f) { return f.runs_dropped_overflow; }),
-           kRed}}});
+           kRed}}}};
     std::vector<double> duty, ii, hw, drops, stalls;
     for (const Summary& m : sweep) {
       duty.push_back(m.s.backpressure);
@@ -721,25 +711,26 @@ int run_profile(const ProfileOptions& o) {
       drops.push_back(sum_of(m.frames, [](const auto& f) { return f.runs_dropped_overflow; }));
       stalls.push_back(mean_of(m.frames, [](const auto& f) { return f.run_stall_cycles; }));
     }
-    const cv::Mat throughput = stack_plots(
-        {draw_plot({"Video throughput vs run-stream back-pressure",
-                    "m_axis_runs tready-low duty",
-                    "pixels / tvalid cycle",
-                    {{"min over frames", duty, ii, kBlue}}}),
-         draw_plot({"Run FIFO vs back-pressure",
-                    "m_axis_runs tready-low duty",
-                    "entries",
-                    {{"high-water (max)", duty, hw, kBlue}, {"drops (total)", duty, drops, kRed}}}),
-         draw_plot({"Run stream stalls vs back-pressure",
-                    "m_axis_runs tready-low duty",
-                    "cycles / frame",
-                    {{"tvalid && !tready", duty, stalls, kGreen}}})});
-    // Everything is computed before anything is renamed into place.
+    const std::vector<PlotPanel> throughput{
+        {"Video throughput vs run-stream back-pressure",
+         "m_axis_runs tready-low duty",
+         "pixels / tvalid cycle",
+         {{"min over frames", duty, ii, kBlue}}},
+        {"Run FIFO vs back-pressure",
+         "m_axis_runs tready-low duty",
+         "entries",
+         {{"high-water (max)", duty, hw, kBlue}, {"drops (total)", duty, drops, kRed}}},
+        {"Run stream stalls vs back-pressure",
+         "m_axis_runs tready-low duty",
+         "cycles / frame",
+         {{"tvalid && !tready", duty, stalls, kGreen}}}};
+    // gnuplot draws into the staged folder (PNG, .dat, .gp each); nothing is
+    // renamed into place unless every chart was drawn.
+    write_plots(folder.path("latency.png"), latency);
+    write_plots(folder.path("fifo.png"), fifo);
+    if (!sweep.empty()) write_plots(folder.path("throughput.png"), throughput);
     csv.commit();
     summary.commit();
-    write_png_atomic(folder.path("latency.png"), latency);
-    write_png_atomic(folder.path("fifo.png"), fifo);
-    if (!sweep.empty()) write_png_atomic(folder.path("throughput.png"), throughput);
     folder.commit();
     std::printf("wrote %s/profile.csv, profile_summary.csv, latency.png, fifo.png%s\n",
                 out.string().c_str(), sweep.empty() ? "" : ", throughput.png");
