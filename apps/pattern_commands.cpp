@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -223,8 +224,8 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
       o.calib_blur_sigma >= 0.0 ? o.calib_blur_sigma : o.blur_sigma);
   // Table I shape: theta error vs theta (max |error| over D and beta).
   std::printf("\ntheta error (deg) by theta, max |err| over D (projection: beta = +-90 only)\n");
-  std::printf("%8s %12s %12s %12s %12s %12s\n", "theta", "projection", "moment", "conic",
-              "conic+bars", "c+b rms");
+  fmt::print("{:>8} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "theta", "projection", "moment", "conic",
+             "conic+bars", "c+b rms");
   std::map<double, std::array<double, 5>> by_theta;
   std::map<double, std::array<double, 5>> by_d;
   std::map<double, std::array<int, 2>> counts_theta, counts_d;
@@ -251,15 +252,15 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
     if (!r.ok[3]) bars_ok = false;
   }
   for (auto& [th, v] : by_theta) {
-    std::printf("%8.1f %12.3f %12.3f %12.3f %12.3f %12.3f\n", th, v[0], v[1], v[2], v[3],
-                std::sqrt(v[4] / std::max(1, counts_theta[th][0])));
+    fmt::print("{:8.1f} {:12.3f} {:12.3f} {:12.3f} {:12.3f} {:12.3f}\n", th, v[0], v[1], v[2], v[3],
+               std::sqrt(v[4] / std::max(1, counts_theta[th][0])));
   }
   std::printf("\ndistance error (%%) by D, max |err| over theta (projection: beta = +-90 only)\n");
-  std::printf("%8s %12s %12s %12s %12s %12s\n", "D (m)", "projection", "moment", "conic",
-              "conic+bars", "c+b rms");
+  fmt::print("{:>8} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "D (m)", "projection", "moment", "conic",
+             "conic+bars", "c+b rms");
   for (auto& [d, v] : by_d) {
-    std::printf("%8.1f %12.3f %12.3f %12.3f %12.3f %12.3f\n", d, v[0], v[1], v[2], v[3],
-                std::sqrt(v[4] / std::max(1, counts_d[d][0])));
+    fmt::print("{:8.1f} {:12.3f} {:12.3f} {:12.3f} {:12.3f} {:12.3f}\n", d, v[0], v[1], v[2], v[3],
+               std::sqrt(v[4] / std::max(1, counts_d[d][0])));
   }
   int beta_frames = 0, beta_resolved[4] = {0, 0, 0, 0};
   for (const Row& r : rows) {
