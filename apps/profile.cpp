@@ -12,8 +12,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include "apps/atomic_file.hpp"
 #include "apps/commands.hpp"
+
 #include "apps/plot.hpp"
 #include "apps/progress.hpp"
 #include "apps/rtl_backend.hpp"
@@ -471,50 +473,51 @@ void write_summary_row(host::CsvWriter& w, const Summary& m, const std::string& 
 
 void print_summary(const Summary& m, const std::string& backend) {
   const auto& v = m.frames;
-  std::printf("%s (%s backend): %dx%d, blanking %s", m.name.c_str(), backend.c_str(), m.s.width,
-              m.s.height, std::string(to_string(m.s.blanking)).c_str());
-  if (m.s.blanking == Blanking::random) std::printf(" (gap P %.2f)", m.s.gap_probability);
-  std::printf(", back-pressure %.2f, %d tape%s, %zu frames\n", m.s.backpressure, m.s.tapes,
-              m.s.tapes == 1 ? "" : "s", v.size());
+  fmt::print("{} ({} backend): {}x{}, blanking {}", m.name.c_str(), backend.c_str(), m.s.width,
+             m.s.height, std::string(to_string(m.s.blanking)).c_str());
+  if (m.s.blanking == Blanking::random) fmt::print(" (gap P {:.2f})", m.s.gap_probability);
+  fmt::print(", back-pressure {:.2f}, {} tape{}, {} frames\n", m.s.backpressure, m.s.tapes,
+             m.s.tapes == 1 ? "" : "s", v.size());
   const auto u = [](double x) { return static_cast<unsigned long long>(x); };
-  std::printf("  cycles per frame (SOF..EOF)   %llu .. %llu (pixels %llu)\n",
-              u(min_of(v, [](const auto& f) { return f.cycles; })),
-              u(max_of(v, [](const auto& f) { return f.cycles; })),
-              u(static_cast<double>(m.s.width) * m.s.height));
-  std::printf("  pixels per tvalid cycle (II)  min %.6f   bubbles %llu\n",
-              min_of(v, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
-              u(sum_of(v, [](const auto& f) { return f.bubbles; })));
-  std::printf("  EOF -> irq latency, cycles    %lld .. %lld (register %llu .. %llu)\n",
-              static_cast<long long>(min_of(v, [](const auto& f) { return f.eof_to_irq_cycles; })),
-              static_cast<long long>(max_of(v, [](const auto& f) { return f.eof_to_irq_cycles; })),
-              u(min_of(v, [](const auto& f) { return f.eof_to_irq_register; })),
-              u(max_of(v, [](const auto& f) { return f.eof_to_irq_register; })));
-  std::printf("  run FIFO high-water / drops   max %llu / %llu total (row limit %llu)\n",
-              u(max_of(v, [](const auto& f) { return f.fifo_high_water; })),
-              u(sum_of(v, [](const auto& f) { return f.runs_dropped_overflow; })),
-              u(sum_of(v, [](const auto& f) { return f.runs_dropped_row_limit; })));
-  std::printf("  runs per frame                mean %.1f (run stream stalls %.1f cycles/frame)\n",
-              mean_of(v, [](const auto& f) { return f.runs; }),
-              mean_of(v, [](const auto& f) { return f.run_stall_cycles; }));
-  std::printf("  host AXI4-Lite words / frame  read %.1f, written %.1f\n",
-              mean_of(v, [](const auto& f) { return f.words_read; }),
-              mean_of(v, [](const auto& f) { return f.words_written; }));
-  std::printf(
-      "  host bus cycles / frame       configure %.1f + readout (irq .. done) %.1f; vertical "
-      "blanking %u\n",
+  fmt::print("  cycles per frame (SOF..EOF)   {} .. {} (pixels {})\n",
+             u(min_of(v, [](const auto& f) { return f.cycles; })),
+             u(max_of(v, [](const auto& f) { return f.cycles; })),
+             u(static_cast<double>(m.s.width) * m.s.height));
+  fmt::print("  pixels per tvalid cycle (II)  min {:.6f}   bubbles {}\n",
+             min_of(v, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
+             u(sum_of(v, [](const auto& f) { return f.bubbles; })));
+  fmt::print("  EOF -> irq latency, cycles    {} .. {} (register {} .. {})\n",
+             static_cast<long long>(min_of(v, [](const auto& f) { return f.eof_to_irq_cycles; })),
+             static_cast<long long>(max_of(v, [](const auto& f) { return f.eof_to_irq_cycles; })),
+             u(min_of(v, [](const auto& f) { return f.eof_to_irq_register; })),
+             u(max_of(v, [](const auto& f) { return f.eof_to_irq_register; })));
+  fmt::print("  run FIFO high-water / drops   max {} / {} total (row limit {})\n",
+             u(max_of(v, [](const auto& f) { return f.fifo_high_water; })),
+             u(sum_of(v, [](const auto& f) { return f.runs_dropped_overflow; })),
+             u(sum_of(v, [](const auto& f) { return f.runs_dropped_row_limit; })));
+  fmt::print(
+      "  runs per frame                mean {:.1f} (run stream stalls {:.1f} cycles/frame)\n",
+      mean_of(v, [](const auto& f) { return f.runs; }),
+      mean_of(v, [](const auto& f) { return f.run_stall_cycles; }));
+  fmt::print("  host AXI4-Lite words / frame  read {:.1f}, written {:.1f}\n",
+             mean_of(v, [](const auto& f) { return f.words_read; }),
+             mean_of(v, [](const auto& f) { return f.words_written; }));
+  fmt::print(
+      "  host bus cycles / frame       configure {:.1f} + readout (irq .. done) {:.1f}; vertical "
+      "blanking {}\n",
       mean_of(v, [](const auto& f) { return f.configure_cycles; }),
       mean_of(v, [](const auto& f) { return f.readout_cycles; }), frame_feed(m.s).blanking_cycles);
-  std::printf(
-      "  host time per frame (median)  driver %.1f us (simulation included), pose maths %.1f "
+  fmt::print(
+      "  host time per frame (median)  driver {:.1f} us (simulation included), pose maths {:.1f} "
       "us\n",
       median_of(v, [](const auto& f) { return f.host_driver_us; }),
       median_of(v, [](const auto& f) { return f.host_pose_us; }));
   if (m.problems.empty()) {
-    std::printf("  II = 1 and 0 bubbles on every frame: MET\n");
+    fmt::print("  II = 1 and 0 bubbles on every frame: MET\n");
   } else {
-    std::printf("  VIOLATED (%zu):\n", m.problems.size());
+    fmt::print("  VIOLATED ({}):\n", m.problems.size());
     for (size_t i = 0; i < std::min<size_t>(m.problems.size(), 10); ++i) {
-      std::printf("    %s\n", m.problems[i].c_str());
+      fmt::print("    {}\n", m.problems[i].c_str());
     }
   }
 }
@@ -651,18 +654,18 @@ int run_profile(const ProfileOptions& o) {
   print_summary(main_run, o.backend);
   size_t violations = main_run.problems.size();
   if (!sweep.empty()) {
-    std::printf(
-        "back-pressure sweep (%d frames each): duty -> II min, bubbles, FIFO high-water"
+    fmt::print(
+        "back-pressure sweep ({} frames each): duty -> II min, bubbles, FIFO high-water"
         " max, drops, stall cycles/frame\n",
         o.sweep_frames);
     for (const Summary& m : sweep) {
-      std::printf("  %.2f -> %.6f, %.0f, %.0f, %.0f, %.1f%s\n", m.s.backpressure,
-                  min_of(m.frames, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
-                  sum_of(m.frames, [](const auto& f) { return f.bubbles; }),
-                  max_of(m.frames, [](const auto& f) { return f.fifo_high_water; }),
-                  sum_of(m.frames, [](const auto& f) { return f.runs_dropped_overflow; }),
-                  mean_of(m.frames, [](const auto& f) { return f.run_stall_cycles; }),
-                  m.problems.empty() ? "" : "  VIOLATED");
+      fmt::print("  {:.2f} -> {:.6f}, {:.0f}, {:.0f}, {:.0f}, {:.1f}{}\n", m.s.backpressure,
+                 min_of(m.frames, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
+                 sum_of(m.frames, [](const auto& f) { return f.bubbles; }),
+                 max_of(m.frames, [](const auto& f) { return f.fifo_high_water; }),
+                 sum_of(m.frames, [](const auto& f) { return f.runs_dropped_overflow; }),
+                 mean_of(m.frames, [](const auto& f) { return f.run_stall_cycles; }),
+                 m.problems.empty() ? "" : "  VIOLATED");
       for (const std::string& p : m.problems) std::fprintf(stderr, "  %s\n", p.c_str());
       violations += m.problems.size();
     }
