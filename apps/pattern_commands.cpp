@@ -142,6 +142,64 @@ std::string fixed_text(double v, int digits) {
 
 // ---------------------------------------------------------------- accuracy
 
+namespace {
+
+// One frame of the pattern-accuracy study.
+struct Row {
+  double d, theta, beta;
+  bool seed_set;     // beta = +-90 deg (the seed's experiments)
+  double err[4][2];  // method (projection, moment, conic) x (D %, theta deg)
+  bool ok[4];
+  bool beta_ok[4];
+  bool code_visible;
+  double bar_px;
+  int identity, read;
+  std::string code_status;
+};
+
+// The study's per-frame CSV: one row per rendered frame, the errors of each
+// method (empty where it found no pose) and whether beta came out right.
+void write_accuracy_csv(const fs::path& path, const std::vector<Row>& rows) {
+  AtomicFile f(path);
+  host::CsvWriter w(f.stream());
+  w.row({"d_m",
+         "theta_deg",
+         "beta_deg",
+         "seed_set",
+         "identity",
+         "read",
+         "code_status",
+         "code_in_view",
+         "min_bar_px",
+         "proj_d_err_pct",
+         "proj_theta_err_deg",
+         "moment_d_err_pct",
+         "moment_theta_err_deg",
+         "conic_d_err_pct",
+         "conic_theta_err_deg",
+         "bars_d_err_pct",
+         "bars_theta_err_deg",
+         "moment_beta_ok",
+         "conic_beta_ok",
+         "bars_beta_ok"});
+  for (const Row& r : rows) {
+    w.general(r.d, 6).general(r.theta, 6).fixed(r.beta, 3).integer(r.seed_set);
+    w.integer(r.identity).integer(r.read).text(r.code_status).integer(r.code_visible);
+    w.fixed(r.bar_px, 2);
+    for (int m = 0; m < 4; ++m) {
+      if (r.ok[m]) {
+        w.fixed(r.err[m][0], 4).fixed(r.err[m][1], 4);
+      } else {
+        w.empty().empty();
+      }
+    }
+    w.integer(r.beta_ok[1]).integer(r.beta_ok[2]).integer(r.beta_ok[3]).end_row();
+  }
+  f.commit();
+}
+
+}  // namespace
+
 int run_pattern_accuracy(const PatternAccuracyOptions& o) {
   if (!o.csv.empty()) check_writable(o.csv);
   if (!o.plot.empty()) check_writable(o.plot);
@@ -156,17 +214,6 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
   std::vector<double> thetas;
   for (int k = 0; k <= 10; ++k) thetas.push_back(7.5 * k);  // the seed's Table I
 
-  struct Row {
-    double d, theta, beta;
-    bool seed_set;     // beta = +-90 deg (the seed's experiments)
-    double err[4][2];  // method (projection, moment, conic) x (D %, theta deg)
-    bool ok[4];
-    bool beta_ok[4];
-    bool code_visible;
-    double bar_px;
-    int identity, read;
-    std::string code_status;
-  };
   std::vector<Row> rows;
   int frame = 0;
   uint64_t frame_seed = 0;
@@ -294,44 +341,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
       conic_d_max, conic_theta_max15, (wrong == 0 && visible_read == visible) ? "ok" : "FAIL",
       pass ? "PASS" : "FAIL");
 
-  if (!o.csv.empty()) {
-    AtomicFile f(o.csv);
-    host::CsvWriter w(f.stream());
-    w.row({"d_m",
-           "theta_deg",
-           "beta_deg",
-           "seed_set",
-           "identity",
-           "read",
-           "code_status",
-           "code_in_view",
-           "min_bar_px",
-           "proj_d_err_pct",
-           "proj_theta_err_deg",
-           "moment_d_err_pct",
-           "moment_theta_err_deg",
-           "conic_d_err_pct",
-           "conic_theta_err_deg",
-           "bars_d_err_pct",
-           "bars_theta_err_deg",
-           "moment_beta_ok",
-           "conic_beta_ok",
-           "bars_beta_ok"});
-    for (const Row& r : rows) {
-      w.general(r.d, 6).general(r.theta, 6).fixed(r.beta, 3).integer(r.seed_set);
-      w.integer(r.identity).integer(r.read).text(r.code_status).integer(r.code_visible);
-      w.fixed(r.bar_px, 2);
-      for (int m = 0; m < 4; ++m) {
-        if (r.ok[m]) {
-          w.fixed(r.err[m][0], 4).fixed(r.err[m][1], 4);
-        } else {
-          w.empty().empty();
-        }
-      }
-      w.integer(r.beta_ok[1]).integer(r.beta_ok[2]).integer(r.beta_ok[3]).end_row();
-    }
-    f.commit();
-  }
+  if (!o.csv.empty()) write_accuracy_csv(o.csv, rows);
   if (!o.plot.empty()) {
     // Seed Table I (greatest absolute error, deg) and Table II (percent).
     const std::vector<double> t1x{0, 7.5, 15, 22.5, 30, 37.5, 45, 52.5, 60, 67.5, 75};
