@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/atomic_file.hpp"
@@ -24,6 +25,7 @@
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/camera_config_io.hpp"
+#include "host/csv.hpp"
 #include "host/flow_height.hpp"
 #include "host/frame_io.hpp"
 #include "host/navigator.hpp"
@@ -138,8 +140,8 @@ int run_demo(const DemoOptions& o) {
       " %s)\n",
       o.frames, camera.image_width, camera.image_height, camera.camera_pitch_deg,
       (o.backend + " backend").c_str());
-  std::printf("%5s %-14s %9s %9s %8s %9s %9s %8s %4s\n", "frame", "status", "yaw_true", "yaw_est",
-              "err_deg", "off_true", "off_est", "err_mm", "thr");
+  fmt::print("{:>5} {:<14} {:>9} {:>9} {:>8} {:>9} {:>9} {:>8} {:>4}\n", "frame", "status",
+             "yaw_true", "yaw_est", "err_deg", "off_true", "off_est", "err_mm", "thr");
 
   Rms yaw_err, off_err;
   std::map<std::string, int> statuses;
@@ -172,9 +174,9 @@ int run_demo(const DemoOptions& o) {
       const double eo = r.pose.offset_m - truth.offset_m;
       yaw_err.add(ey);
       off_err.add(eo);
-      std::printf("%5d %-14s %9.4f %9.4f %8.4f %9.4f %9.4f %8.3f %4d\n", i, status.c_str(),
-                  truth.yaw_rad / kDeg, r.pose.yaw_rad / kDeg, ey / kDeg, truth.offset_m,
-                  r.pose.offset_m, eo * 1000.0, r.settings.threshold);
+      fmt::print("{:5} {:<14} {:9.4f} {:9.4f} {:8.4f} {:9.4f} {:9.4f} {:8.3f} {:4}\n", i, status,
+                 truth.yaw_rad / kDeg, r.pose.yaw_rad / kDeg, ey / kDeg, truth.offset_m,
+                 r.pose.offset_m, eo * 1000.0, r.settings.threshold);
       if (overlay_frame < 0 || i == o.frames / 2) {
         overlay_grey = frame;
         overlay_outcome = r;
@@ -193,8 +195,8 @@ int run_demo(const DemoOptions& o) {
       }
       prev_end = end;
     } else {
-      std::printf("%5d %-14s %9.4f %9s %8s %9.4f %9s %8s %4d\n", i, status.c_str(),
-                  truth.yaw_rad / kDeg, "-", "-", truth.offset_m, "-", "-", r.settings.threshold);
+      fmt::print("{:5} {:<14} {:9.4f} {:>9} {:>8} {:9.4f} {:>9} {:>8} {:4}\n", i, status,
+                 truth.yaw_rad / kDeg, "-", "-", truth.offset_m, "-", "-", r.settings.threshold);
       prev_end.reset();
     }
   }
@@ -358,8 +360,9 @@ int run_accuracy(const AccuracyOptions& o) {
   std::unique_ptr<AtomicFile> csv;
   if (!o.csv.empty()) {
     csv = std::make_unique<AtomicFile>(o.csv);
-    csv->stream() << "frame,pitch_deg,yaw_true_rad,offset_true_m,noise,blur,status,yaw_err_deg,"
-                     "offset_err_mm,points_used\n";
+    host::CsvWriter(csv->stream())
+        .row({"frame", "pitch_deg", "yaw_true_rad", "offset_true_m", "noise", "blur", "status",
+              "yaw_err_deg", "offset_err_mm", "points_used"});
   }
   Rms yaw_all, off_all;
   std::map<int, std::pair<Rms, Rms>> by_pitch;  // 10-degree bins
@@ -396,11 +399,16 @@ int run_accuracy(const AccuracyOptions& o) {
       bin.second.add(eo);
     }
     if (csv) {
-      csv->stream() << i << ',' << s.pitch_deg << ',' << truth.yaw_rad << ',' << truth.offset_m
-                    << ',' << s.noise << ',' << s.blur << ',' << status << ','
-                    << (status == "ok" ? std::to_string(ey / kDeg) : "") << ','
-                    << (status == "ok" ? std::to_string(eo * 1000.0) : "") << ','
-                    << r.pose.points_used << '\n';
+      // Truth and sample columns: 6 significant digits; errors: 6 decimals.
+      host::CsvWriter w(csv->stream());
+      w.integer(i).general(s.pitch_deg, 6).general(truth.yaw_rad, 6).general(truth.offset_m, 6);
+      w.general(s.noise, 6).general(s.blur, 6).text(status);
+      if (status == "ok") {
+        w.fixed(ey / kDeg, 6).fixed(eo * 1000.0, 6);
+      } else {
+        w.empty().empty();
+      }
+      w.integer(r.pose.points_used).end_row();
     }
     progress.update(static_cast<size_t>(i + 1));
   }
@@ -414,15 +422,16 @@ int run_accuracy(const AccuracyOptions& o) {
       o.frames, o.width, o.height, o.pitch_min_deg, o.pitch_max_deg, o.yaw_max_deg, o.offset_max_m,
       o.noise_max, o.blur_max, o.distortion ? "on" : "off",
       static_cast<unsigned long long>(o.seed));
-  std::printf("%-10s %6s %14s %14s %14s %14s\n", "pitch", "frames", "yaw RMS deg", "yaw max deg",
-              "offset RMS mm", "offset max mm");
+  fmt::print("{:<10} {:>6} {:>14} {:>14} {:>14} {:>14}\n", "pitch", "frames", "yaw RMS deg",
+             "yaw max deg", "offset RMS mm", "offset max mm");
   for (const auto& [p, bins] : by_pitch) {
-    std::printf("%3d-%-3d    %6d %14.5f %14.5f %14.4f %14.4f\n", p, p + 10, bins.first.n,
-                bins.first.rms() / kDeg, bins.first.max_abs / kDeg, bins.second.rms() * 1e3,
-                bins.second.max_abs * 1e3);
+    fmt::print("{:3}-{:<3}    {:6} {:14.5f} {:14.5f} {:14.4f} {:14.4f}\n", p, p + 10, bins.first.n,
+               bins.first.rms() / kDeg, bins.first.max_abs / kDeg, bins.second.rms() * 1e3,
+               bins.second.max_abs * 1e3);
   }
-  std::printf("%-10s %6d %14.5f %14.5f %14.4f %14.4f\n", "all", yaw_all.n, yaw_all.rms() / kDeg,
-              yaw_all.max_abs / kDeg, off_all.rms() * 1e3, off_all.max_abs * 1e3);
+  fmt::print("{:<10} {:6} {:14.5f} {:14.5f} {:14.4f} {:14.4f}\n", "all", yaw_all.n,
+             yaw_all.rms() / kDeg, yaw_all.max_abs / kDeg, off_all.rms() * 1e3,
+             off_all.max_abs * 1e3);
   std::printf("statuses:");
   for (const auto& [st, n] : statuses) std::printf(" %s %d", st.c_str(), n);
   std::printf("\n");

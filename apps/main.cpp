@@ -182,9 +182,11 @@ int main(int argc, char** argv) {
                        "Folder of PNG frames (default: render the demo corridor)");
   prof_cmd->add_option("--scene", prof.scene_file,
                        "Scene/camera YAML for --frames (default: <frames>/scene.yaml)");
-  prof_cmd->add_option("--out", prof.out_dir,
-                       "Folder for profile.csv, profile_summary.csv and the PNG plots (created); "
-                       "without it only the summary is printed");
+  prof_cmd->add_option(
+      "--out", prof.out_dir,
+      "Folder for profile.csv, profile_summary.csv and the PNG plots drawn by gnuplot, "
+      "each with its .dat and .gp (created); "
+      "without it only the summary is printed");
   prof_cmd->add_option("--width", prof.width, "Rendered frame width, 1..1920")
       ->capture_default_str();
   prof_cmd->add_option("--height", prof.height, "Rendered frame height, 1..1080")
@@ -279,7 +281,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"fast", "model", "rtl"}))
       ->capture_default_str();
   pacc_cmd->add_option("--csv", pacc.csv, "Per-frame errors to this CSV");
-  pacc_cmd->add_option("--plot", pacc.plot, "PNG of the error curves beside the seed's tables");
+  pacc_cmd->add_option(
+      "--plot", pacc.plot,
+      "PNG of the error curves beside the seed's tables, drawn by gnuplot (its .dat and .gp "
+      "beside it)");
   pacc_cmd->add_flag("--require", pacc.require,
                      "Exit 1 unless D error <= 0.3 %, theta error <= 0.3 deg (theta >= 15) "
                      "for the conic method and every visible code is read, none wrongly");

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -24,6 +25,7 @@
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
+#include "host/csv.hpp"
 #include "host/device.hpp"
 #include "host/frame_io.hpp"
 #include "host/pattern/pattern_frame.hpp"
@@ -77,7 +79,10 @@ hp::PoseOptions pose_options_for(const gp::PatternGeometry& g) {
 }
 
 void write_png_file(const fs::path& path, const cv::Mat& image) {
-  const std::vector<unsigned char> bytes = encode_png(image);
+  std::vector<unsigned char> bytes;
+  if (!cv::imencode(".png", image, bytes)) {
+    throw std::runtime_error("cannot encode PNG for '" + path.string() + "'");
+  }
   AtomicFile f(path);
   f.stream().write(reinterpret_cast<const char*>(bytes.data()),
                    static_cast<std::streamsize>(bytes.size()));
@@ -126,7 +131,7 @@ std::string frame_name_png(int i) {
   return buf;
 }
 
-std::string fmt(double v, int digits) {
+std::string fixed_text(double v, int digits) {
   if (!std::isfinite(v)) return "";
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << v;
@@ -136,6 +141,64 @@ std::string fmt(double v, int digits) {
 }  // namespace
 
 // ---------------------------------------------------------------- accuracy
+
+namespace {
+
+// One frame of the pattern-accuracy study.
+struct Row {
+  double d, theta, beta;
+  bool seed_set;     // beta = +-90 deg (the seed's experiments)
+  double err[4][2];  // method (projection, moment, conic) x (D %, theta deg)
+  bool ok[4];
+  bool beta_ok[4];
+  bool code_visible;
+  double bar_px;
+  int identity, read;
+  std::string code_status;
+};
+
+// The study's per-frame CSV: one row per rendered frame, the errors of each
+// method (empty where it found no pose) and whether beta came out right.
+void write_accuracy_csv(const fs::path& path, const std::vector<Row>& rows) {
+  AtomicFile f(path);
+  host::CsvWriter w(f.stream());
+  w.row({"d_m",
+         "theta_deg",
+         "beta_deg",
+         "seed_set",
+         "identity",
+         "read",
+         "code_status",
+         "code_in_view",
+         "min_bar_px",
+         "proj_d_err_pct",
+         "proj_theta_err_deg",
+         "moment_d_err_pct",
+         "moment_theta_err_deg",
+         "conic_d_err_pct",
+         "conic_theta_err_deg",
+         "bars_d_err_pct",
+         "bars_theta_err_deg",
+         "moment_beta_ok",
+         "conic_beta_ok",
+         "bars_beta_ok"});
+  for (const Row& r : rows) {
+    w.general(r.d, 6).general(r.theta, 6).fixed(r.beta, 3).integer(r.seed_set);
+    w.integer(r.identity).integer(r.read).text(r.code_status).integer(r.code_visible);
+    w.fixed(r.bar_px, 2);
+    for (int m = 0; m < 4; ++m) {
+      if (r.ok[m]) {
+        w.fixed(r.err[m][0], 4).fixed(r.err[m][1], 4);
+      } else {
+        w.empty().empty();
+      }
+    }
+    w.integer(r.beta_ok[1]).integer(r.beta_ok[2]).integer(r.beta_ok[3]).end_row();
+  }
+  f.commit();
+}
+
+}  // namespace
 
 int run_pattern_accuracy(const PatternAccuracyOptions& o) {
   if (!o.csv.empty()) check_writable(o.csv);
@@ -151,17 +214,6 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
   std::vector<double> thetas;
   for (int k = 0; k <= 10; ++k) thetas.push_back(7.5 * k);  // the seed's Table I
 
-  struct Row {
-    double d, theta, beta;
-    bool seed_set;     // beta = +-90 deg (the seed's experiments)
-    double err[4][2];  // method (projection, moment, conic) x (D %, theta deg)
-    bool ok[4];
-    bool beta_ok[4];
-    bool code_visible;
-    double bar_px;
-    int identity, read;
-    std::string code_status;
-  };
   std::vector<Row> rows;
   int frame = 0;
   uint64_t frame_seed = 0;
@@ -219,8 +271,8 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
       o.calib_blur_sigma >= 0.0 ? o.calib_blur_sigma : o.blur_sigma);
   // Table I shape: theta error vs theta (max |error| over D and beta).
   std::printf("\ntheta error (deg) by theta, max |err| over D (projection: beta = +-90 only)\n");
-  std::printf("%8s %12s %12s %12s %12s %12s\n", "theta", "projection", "moment", "conic",
-              "conic+bars", "c+b rms");
+  fmt::print("{:>8} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "theta", "projection", "moment", "conic",
+             "conic+bars", "c+b rms");
   std::map<double, std::array<double, 5>> by_theta;
   std::map<double, std::array<double, 5>> by_d;
   std::map<double, std::array<int, 2>> counts_theta, counts_d;
@@ -247,15 +299,15 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
     if (!r.ok[3]) bars_ok = false;
   }
   for (auto& [th, v] : by_theta) {
-    std::printf("%8.1f %12.3f %12.3f %12.3f %12.3f %12.3f\n", th, v[0], v[1], v[2], v[3],
-                std::sqrt(v[4] / std::max(1, counts_theta[th][0])));
+    fmt::print("{:8.1f} {:12.3f} {:12.3f} {:12.3f} {:12.3f} {:12.3f}\n", th, v[0], v[1], v[2], v[3],
+               std::sqrt(v[4] / std::max(1, counts_theta[th][0])));
   }
   std::printf("\ndistance error (%%) by D, max |err| over theta (projection: beta = +-90 only)\n");
-  std::printf("%8s %12s %12s %12s %12s %12s\n", "D (m)", "projection", "moment", "conic",
-              "conic+bars", "c+b rms");
+  fmt::print("{:>8} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "D (m)", "projection", "moment", "conic",
+             "conic+bars", "c+b rms");
   for (auto& [d, v] : by_d) {
-    std::printf("%8.1f %12.3f %12.3f %12.3f %12.3f %12.3f\n", d, v[0], v[1], v[2], v[3],
-                std::sqrt(v[4] / std::max(1, counts_d[d][0])));
+    fmt::print("{:8.1f} {:12.3f} {:12.3f} {:12.3f} {:12.3f} {:12.3f}\n", d, v[0], v[1], v[2], v[3],
+               std::sqrt(v[4] / std::max(1, counts_d[d][0])));
   }
   int beta_frames = 0, beta_resolved[4] = {0, 0, 0, 0};
   for (const Row& r : rows) {
@@ -289,24 +341,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
       conic_d_max, conic_theta_max15, (wrong == 0 && visible_read == visible) ? "ok" : "FAIL",
       pass ? "PASS" : "FAIL");
 
-  if (!o.csv.empty()) {
-    AtomicFile f(o.csv);
-    f.stream() << "d_m,theta_deg,beta_deg,seed_set,identity,read,code_status,code_in_view,"
-                  "min_bar_px,proj_d_err_pct,proj_theta_err_deg,moment_d_err_pct,"
-                  "moment_theta_err_deg,conic_d_err_pct,conic_theta_err_deg,bars_d_err_pct,"
-                  "bars_theta_err_deg,moment_beta_ok,conic_beta_ok,bars_beta_ok\n";
-    for (const Row& r : rows) {
-      f.stream() << r.d << ',' << r.theta << ',' << fmt(r.beta, 3) << ',' << r.seed_set << ','
-                 << r.identity << ',' << r.read << ',' << r.code_status << ',' << r.code_visible
-                 << ',' << fmt(r.bar_px, 2);
-      for (int m = 0; m < 4; ++m) {
-        f.stream() << ',' << (r.ok[m] ? fmt(r.err[m][0], 4) : "") << ','
-                   << (r.ok[m] ? fmt(r.err[m][1], 4) : "");
-      }
-      f.stream() << ',' << r.beta_ok[1] << ',' << r.beta_ok[2] << ',' << r.beta_ok[3] << '\n';
-    }
-    f.commit();
-  }
+  if (!o.csv.empty()) write_accuracy_csv(o.csv, rows);
   if (!o.plot.empty()) {
     // Seed Table I (greatest absolute error, deg) and Table II (percent).
     const std::vector<double> t1x{0, 7.5, 15, 22.5, 30, 37.5, 45, 52.5, 60, 67.5, 75};
@@ -353,7 +388,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
       m55.y.push_back(worst);
     }
     pt.series.push_back(m55);
-    write_png_file(o.plot, stack_plots({draw_plot(pt), draw_plot(pd)}));
+    write_plots(o.plot, {pt, pd});  // with its .dat and .gp beside it
   }
   return (o.require && !pass) ? 1 : 0;
 }
@@ -413,13 +448,18 @@ FixRow make_fix(const Analysis& a, const gp::PatternDatabase& db, const Eigen::V
 
 void write_fix_csv(const fs::path& path, const std::vector<FixRow>& rows) {
   AtomicFile f(path);
-  f.stream() << "frame,pan_deg,status,identity,code_status,d_m,theta_deg,beta_deg,x_m,y_m,"
-                "heading_deg\n";
+  host::CsvWriter w(f.stream());
+  w.row({"frame", "pan_deg", "status", "identity", "code_status", "d_m", "theta_deg", "beta_deg",
+         "x_m", "y_m", "heading_deg"});
   for (const FixRow& r : rows) {
-    f.stream() << r.frame << ',' << fmt(r.pan_deg, 3) << ',' << r.status << ','
-               << (r.identity >= 0 ? std::to_string(r.identity) : "") << ',' << r.code_status << ','
-               << fmt(r.d, 5) << ',' << fmt(r.theta, 4) << ',' << fmt(r.beta, 4) << ','
-               << fmt(r.x, 4) << ',' << fmt(r.y, 4) << ',' << fmt(r.heading, 4) << '\n';
+    w.text(r.frame).fixed(r.pan_deg, 3).text(r.status);
+    if (r.identity >= 0) {
+      w.integer(r.identity);
+    } else {
+      w.empty();
+    }
+    w.text(r.code_status).fixed(r.d, 5).fixed(r.theta, 4).fixed(r.beta, 4);
+    w.fixed(r.x, 4).fixed(r.y, 4).fixed(r.heading, 4).end_row();
   }
   f.commit();
 }
@@ -428,10 +468,12 @@ std::string fix_text(const FixRow& r) {
   std::ostringstream s;
   s << r.status;
   if (r.identity >= 0) s << " id " << r.identity;
-  if (std::isfinite(r.d)) s << "  D " << fmt(r.d, 3) << " m  theta " << fmt(r.theta, 2);
-  if (std::isfinite(r.beta)) s << "  beta " << fmt(r.beta, 1);
+  if (std::isfinite(r.d))
+    s << "  D " << fixed_text(r.d, 3) << " m  theta " << fixed_text(r.theta, 2);
+  if (std::isfinite(r.beta)) s << "  beta " << fixed_text(r.beta, 1);
   if (std::isfinite(r.x)) {
-    s << "  x " << fmt(r.x, 3) << " y " << fmt(r.y, 3) << " heading " << fmt(r.heading, 2);
+    s << "  x " << fixed_text(r.x, 3) << " y " << fixed_text(r.y, 3) << " heading "
+      << fixed_text(r.heading, 2);
   }
   return s.str();
 }
@@ -576,11 +618,11 @@ int run_pattern(const PatternOptions& o) {
   write_fix_csv(out / "pattern.csv", rows);
   {
     AtomicFile f(out / "truth.csv");
-    f.stream() << "frame,d_m,theta_deg,beta_deg,identity,disc_in_view,code_in_view\n";
+    host::CsvWriter w(f.stream());
+    w.row({"frame", "d_m", "theta_deg", "beta_deg", "identity", "disc_in_view", "code_in_view"});
     for (const auto& [name, t] : truths) {
-      f.stream() << name << ',' << fmt(t.d_m, 5) << ',' << fmt(t.theta_rad / kDeg, 4) << ','
-                 << fmt(t.beta_rad / kDeg, 4) << ',' << t.identity << ',' << t.disc_in_view << ','
-                 << t.code_in_view << '\n';
+      w.text(name).fixed(t.d_m, 5).fixed(t.theta_rad / kDeg, 4).fixed(t.beta_rad / kDeg, 4);
+      w.integer(t.identity).integer(t.disc_in_view).integer(t.code_in_view).end_row();
     }
     f.commit();
   }

@@ -1,186 +1,196 @@
 #include "apps/plot.hpp"
 
+#include <sys/wait.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
+#include <string_view>
+#include <system_error>
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+#include <fmt/format.h>
+
+#include "apps/atomic_file.hpp"
 
 namespace ceilnav::app {
 
+namespace fs = std::filesystem;
+
 namespace {
 
-constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
-constexpr double kTickFontScale = 0.45;
-constexpr double kLabelFontScale = 0.55;
-const cv::Scalar kBlack{0, 0, 0};
-const cv::Scalar kGrid{225, 225, 225};
-
-// Tick step of 1, 2 or 5 times a power of ten giving about `target` ticks.
-double nice_step(double span, int target) {
-  const double raw = span / target;
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  const double f = raw / mag;
-  return (f < 1.5 ? 1.0 : f < 3.5 ? 2.0 : f < 7.5 ? 5.0 : 10.0) * mag;
+// A gnuplot string literal: single quotes, a quote doubled.
+std::string quoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'') q += '\'';
+    q += c;
+  }
+  return q + "'";
 }
 
-struct Range {
-  double lo, hi;
-};
+std::string rgb(const cv::Scalar& bgr) {
+  const auto c = [](double v) { return static_cast<int>(std::lround(std::clamp(v, 0.0, 255.0))); };
+  return fmt::format("#{:02x}{:02x}{:02x}", c(bgr[2]), c(bgr[1]), c(bgr[0]));
+}
 
-Range data_range(const std::vector<PlotSeries>& series, bool x_axis) {
-  Range r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-  for (const auto& s : series) {
+// The shell word of a path (single-quoted).
+std::string shell_word(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'') {
+      q += "'\\''";
+    } else {
+      q += c;
+    }
+  }
+  return q + "'";
+}
+
+bool program_found(const std::string& program) {
+  const std::string cmd = "command -v " + shell_word(program) + " >/dev/null 2>&1";
+  return std::system(cmd.c_str()) == 0;
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  AtomicFile file(path);
+  file.stream() << text;
+  file.commit();
+}
+
+void write_data(const fs::path& dat, const std::vector<PlotPanel>& panels) {
+  AtomicFile file(dat);
+  std::ostream& out = file.stream();
+  bool first = true;
+  for (size_t p = 0; p < panels.size(); ++p) {
+    for (const PlotSeries& s : panels[p].series) {
+      if (s.x.size() != s.y.size()) {
+        throw std::runtime_error("plot series '" + s.label + "': x and y differ in length");
+      }
+      if (!first) out << "\n\n";
+      first = false;
+      out << "# panel " << p + 1 << " (" << panels[p].title << "): " << s.label << "\n";
+      for (size_t i = 0; i < s.x.size(); ++i) {
+        if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+        out << fmt::format("{:.10g} {:.10g}\n", s.x[i], s.y[i]);
+      }
+    }
+  }
+  file.commit();
+}
+
+// Autoscaled ("[0:*]" from zero), unless the data span nothing (one point, a
+// constant), where gnuplot would warn and pick a range itself.
+std::string axis_range(const char* axis, const std::vector<PlotSeries>& series, bool x_axis,
+                       bool from_zero) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const PlotSeries& s : series) {
     for (double v : x_axis ? s.x : s.y) {
       if (!std::isfinite(v)) continue;
-      r.lo = std::min(r.lo, v);
-      r.hi = std::max(r.hi, v);
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
     }
   }
-  if (!(r.lo <= r.hi)) r = {0.0, 1.0};
-  return r;
+  if (!(hi >= lo)) return fmt::format("set {}range [-1:1]\n", axis);  // no data
+  if (from_zero) lo = 0.0;
+  if (hi > lo) return fmt::format("set {}range [{}:*]\n", axis, from_zero ? "0" : "*");
+  const double pad = lo == 0.0 ? 1.0 : std::abs(lo) * 0.5;
+  return fmt::format("set {}range [{:.10g}:{:.10g}]\n", axis, from_zero ? 0.0 : lo - pad, hi + pad);
 }
 
-bool all_integers(const std::vector<PlotSeries>& series, bool x_axis) {
-  for (const auto& s : series) {
-    for (double v : x_axis ? s.x : s.y) {
-      if (std::isfinite(v) && v != std::round(v)) return false;
+// A PNG written to the end: its last chunk is IEND. gnuplot does not report a
+// failed write (full disk, file size limit) in its exit status.
+bool complete_png(const fs::path& path) {
+  static constexpr std::string_view kHead("\x89PNG\r\n\x1a\n", 8);
+  static constexpr std::string_view kEnd("\0\0\0\0IEND\xae\x42\x60\x82", 12);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return false;
+  const std::streamoff size = in.tellg();
+  if (size < 20) return false;
+  char head[8], tail[12];
+  in.seekg(0);
+  in.read(head, 8);
+  in.seekg(size - 12);
+  in.read(tail, 12);
+  return in && std::string_view(head, 8) == kHead && std::string_view(tail, 12) == kEnd;
+}
+
+std::string script(const fs::path& png, const fs::path& dat, const std::vector<PlotPanel>& panels,
+                   int width, int panel_height) {
+  std::string gp;
+  gp += fmt::format("set terminal pngcairo noenhanced size {},{} font 'sans,10'\n", width,
+                    panel_height * static_cast<int>(panels.size()));
+  gp += "set output " + quoted(png.string()) + "\n";
+  gp += fmt::format("set multiplot layout {},1\n", panels.size());
+  gp += "set grid lc rgb '#e1e1e1'\nset key top right opaque box spacing 1.4\n";
+  int index = 0;
+  for (const PlotPanel& panel : panels) {
+    bool non_negative = true;
+    for (const PlotSeries& s : panel.series) {
+      for (double v : s.y) non_negative = non_negative && (!std::isfinite(v) || v >= 0);
     }
+    const bool from_zero = panel.y_from_zero && non_negative;
+    gp += "set title " + quoted(panel.title) + "\n";
+    gp += "set xlabel " + quoted(panel.x_label) + "\n";
+    gp += "set ylabel " + quoted(panel.y_label) + "\n";
+    gp += axis_range("x", panel.series, true, false);
+    gp += axis_range("y", panel.series, false, from_zero);
+    // Head room above the data for the key; none below a zero floor.
+    gp +=
+        fmt::format("set offsets 0, 0, graph {:.2f}, graph {:.2f}\n",
+                    0.1 + 0.08 * static_cast<double>(panel.series.size()), from_zero ? 0.0 : 0.05);
+    gp += "plot ";
+    for (size_t k = 0; k < panel.series.size(); ++k) {
+      const PlotSeries& s = panel.series[k];
+      if (k > 0) gp += ", \\\n     ";
+      gp += fmt::format(
+          "{} index {} using 1:2 with linespoints lw 2 dt {} pt 7 ps 0.6 lc rgb '{}' title {}",
+          quoted(dat.filename().string()), index++, k + 1, rgb(s.colour), quoted(s.label));
+    }
+    gp += "\n";
   }
-  return true;
-}
-
-// Widens a range to tick multiples (and a non-empty span).
-Range padded(Range r, bool from_zero, bool integer_ticks, double& step) {
-  if (from_zero && r.lo >= 0.0) r.lo = 0.0;
-  if (r.hi - r.lo < 1e-12) {
-    const double half = std::max(std::abs(r.hi) * 0.1, 1.0);
-    r = {from_zero && r.lo >= 0.0 ? 0.0 : r.lo - half, r.hi + half};
-  }
-  step = nice_step(r.hi - r.lo, 6);
-  if (integer_ticks) step = std::max(step, 1.0);
-  return {std::floor(r.lo / step) * step, std::ceil(r.hi / step) * step};
-}
-
-std::string tick_text(double v, double step) {
-  char buf[32];
-  if (std::abs(v) < step * 1e-6) v = 0.0;
-  const int decimals = step >= 1.0 ? 0 : static_cast<int>(std::ceil(-std::log10(step)));
-  if (std::abs(v) >= 1e6) {
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-  } else {
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  }
-  return buf;
-}
-
-void put_text(cv::Mat& img, const std::string& text, cv::Point at, double scale,
-              const cv::Scalar& colour = kBlack, int thickness = 1) {
-  cv::putText(img, text, at, kFont, scale, colour, thickness, cv::LINE_AA);
-}
-
-cv::Size text_size(const std::string& text, double scale, int thickness = 1) {
-  int baseline = 0;
-  return cv::getTextSize(text, kFont, scale, thickness, &baseline);
+  gp += "unset multiplot\n";
+  return gp;
 }
 
 }  // namespace
 
-cv::Mat draw_plot(const PlotPanel& panel, int width, int height) {
-  cv::Mat img(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
-  // The legend has a row of its own between the title and the axes.
-  const int left = 90, right = 20, top = 62, bottom = 60;
-  const cv::Rect area(left, top, width - left - right, height - top - bottom);
-
-  double xstep = 1.0, ystep = 1.0;
-  const Range xr =
-      padded(data_range(panel.series, true), false, all_integers(panel.series, true), xstep);
-  const Range yr = padded(data_range(panel.series, false), panel.y_from_zero,
-                          all_integers(panel.series, false), ystep);
-  const auto px = [&](double x) {
-    return area.x + static_cast<int>(std::lround((x - xr.lo) / (xr.hi - xr.lo) * area.width));
-  };
-  const auto py = [&](double y) {
-    return area.y + area.height -
-           static_cast<int>(std::lround((y - yr.lo) / (yr.hi - yr.lo) * area.height));
-  };
-
-  // Grid, ticks and tick labels.
-  for (double v = yr.lo; v <= yr.hi + ystep * 1e-9; v += ystep) {
-    const int y = py(v);
-    cv::line(img, {area.x, y}, {area.x + area.width, y}, kGrid, 1);
-    cv::line(img, {area.x - 5, y}, {area.x, y}, kBlack, 1);
-    const std::string t = tick_text(v, ystep);
-    const cv::Size ts = text_size(t, kTickFontScale);
-    put_text(img, t, {area.x - 8 - ts.width, y + ts.height / 2}, kTickFontScale);
+void write_plots(const fs::path& png, const std::vector<PlotPanel>& panels, int width,
+                 int panel_height, const std::string& gnuplot) {
+  if (panels.empty()) throw std::runtime_error("write_plots: no panels");
+  if (!program_found(gnuplot)) {
+    throw std::runtime_error("cannot draw '" + png.string() + "': the program '" + gnuplot +
+                             "' was not found (install the Debian package gnuplot-nox)");
   }
-  for (double v = xr.lo; v <= xr.hi + xstep * 1e-9; v += xstep) {
-    const int x = px(v);
-    cv::line(img, {x, area.y}, {x, area.y + area.height}, kGrid, 1);
-    cv::line(img, {x, area.y + area.height}, {x, area.y + area.height + 5}, kBlack, 1);
-    const std::string t = tick_text(v, xstep);
-    const cv::Size ts = text_size(t, kTickFontScale);
-    put_text(img, t, {x - ts.width / 2, area.y + area.height + 10 + ts.height}, kTickFontScale);
+  fs::path dat = png, gp_path = png, tmp = png;
+  dat.replace_extension(".dat");
+  gp_path.replace_extension(".gp");
+  tmp += ".tmp";
+  write_data(dat, panels);
+  // The script names the data file relative to its own folder, and gnuplot
+  // runs there, so the three files can be moved together.
+  write_text(gp_path, script(png.filename().string() + ".tmp", dat, panels, width, panel_height));
+  const fs::path dir = png.has_parent_path() ? png.parent_path() : fs::path(".");
+  const std::string cmd = "cd " + shell_word(dir.string()) + " && " + shell_word(gnuplot) + " " +
+                          shell_word(gp_path.filename().string());
+  const int status = std::system(cmd.c_str());
+  std::error_code ec;
+  if (status != 0) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error("gnuplot failed to draw '" + png.string() + "' from '" +
+                             gp_path.string() + "' (exit status " +
+                             std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
   }
-  cv::rectangle(img, area, kBlack, 1);
-
-  // Axis labels and title.
-  const cv::Size xs = text_size(panel.x_label, kLabelFontScale);
-  put_text(img, panel.x_label, {area.x + (area.width - xs.width) / 2, height - 12},
-           kLabelFontScale);
-  const cv::Size ys = text_size(panel.y_label, kLabelFontScale);
-  cv::Mat ylab(ys.height + 8, ys.width + 4, CV_8UC3, cv::Scalar(255, 255, 255));
-  put_text(ylab, panel.y_label, {2, ys.height + 2}, kLabelFontScale);
-  cv::rotate(ylab, ylab, cv::ROTATE_90_COUNTERCLOCKWISE);
-  const int ly = std::max(0, area.y + (area.height - ylab.rows) / 2);
-  if (ly + ylab.rows <= height && ylab.cols + 6 <= left) {
-    ylab.copyTo(img(cv::Rect(6, ly, ylab.cols, ylab.rows)));
+  if (!complete_png(tmp)) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error("error while writing '" + png.string() +
+                             "': gnuplot left an incomplete PNG");
   }
-  const cv::Size tsz = text_size(panel.title, kLabelFontScale, 2);
-  put_text(img, panel.title, {(width - tsz.width) / 2, 26}, kLabelFontScale, kBlack, 2);
-
-  // Series: lines with point markers; earlier series wider, so that equal
-  // series stay visible. Legend entries left to right above the axes.
-  int legend_x = area.x;
-  for (size_t k = 0; k < panel.series.size(); ++k) {
-    const PlotSeries& s = panel.series[k];
-    const int thickness = k == 0 && panel.series.size() > 1 ? 4 : 2;
-    const int radius = k == 0 && panel.series.size() > 1 ? 6 : 3;
-    const size_t n = std::min(s.x.size(), s.y.size());
-    for (size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
-      const cv::Point p(px(s.x[i]), py(s.y[i]));
-      cv::circle(img, p, radius, s.colour, cv::FILLED, cv::LINE_AA);
-      if (i > 0 && std::isfinite(s.x[i - 1]) && std::isfinite(s.y[i - 1])) {
-        cv::line(img, {px(s.x[i - 1]), py(s.y[i - 1])}, p, s.colour, thickness, cv::LINE_AA);
-      }
-    }
-    if (!s.label.empty()) {
-      const cv::Size ls = text_size(s.label, kTickFontScale);
-      const int ly2 = top - 12;
-      cv::line(img, {legend_x, ly2 - ls.height / 2}, {legend_x + 22, ly2 - ls.height / 2}, s.colour,
-               thickness, cv::LINE_AA);
-      put_text(img, s.label, {legend_x + 28, ly2}, kTickFontScale);
-      legend_x += 28 + ls.width + 24;
-    }
-  }
-  return img;
-}
-
-cv::Mat stack_plots(const std::vector<cv::Mat>& panels) {
-  cv::Mat out;
-  cv::vconcat(panels, out);
-  return out;
-}
-
-std::vector<unsigned char> encode_png(const cv::Mat& image) {
-  std::vector<unsigned char> bytes;
-  if (!cv::imencode(".png", image, bytes)) throw std::runtime_error("cannot encode a PNG plot");
-  return bytes;
+  fs::rename(tmp, png);
+  // The script as kept names the PNG itself, so running it by hand redraws it.
+  write_text(gp_path, script(png.filename(), dat, panels, width, panel_height));
 }
 
 }  // namespace ceilnav::app

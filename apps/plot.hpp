@@ -1,7 +1,10 @@
-// Line charts drawn with OpenCV for the reports of the ceilnav program: axes
-// with ticks at 1-2-5 steps, tick labels, axis labels, a title and a legend.
+// Line charts for the reports of the ceilnav program, drawn by gnuplot
+// (Debian package gnuplot-nox): the numbers go to a data file beside the PNG,
+// and a gnuplot script beside both draws the PNG from it, so every chart can
+// be redrawn or restyled by hand.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -11,8 +14,8 @@ namespace ceilnav::app {
 
 struct PlotSeries {
   std::string label;
-  std::vector<double> x, y;  // equal lengths
-  cv::Scalar colour{200, 80, 0};
+  std::vector<double> x, y;       // equal lengths; non-finite points are left out
+  cv::Scalar colour{200, 80, 0};  // BGR, as elsewhere in the program
 };
 
 struct PlotPanel {
@@ -21,13 +24,13 @@ struct PlotPanel {
   bool y_from_zero = true;  // the y axis starts at 0 when all values are >= 0
 };
 
-// One panel, width x height pixels, 8-bit BGR on white.
-cv::Mat draw_plot(const PlotPanel& panel, int width = 960, int height = 360);
-
-// Panels one under the other (equal widths).
-cv::Mat stack_plots(const std::vector<cv::Mat>& panels);
-
-// PNG file bytes of an image (throws std::runtime_error if encoding fails).
-std::vector<unsigned char> encode_png(const cv::Mat& image);
+// Draws `panels` one under the other into `png` (pngcairo terminal, `width` x
+// panels * `panel_height` pixels) and leaves beside it `<stem>.dat` (one block
+// per series: "x y" lines, blocks separated by two blank lines, each headed by
+// a comment naming its panel and series) and `<stem>.gp` (the script).
+// Throws std::runtime_error when gnuplot cannot be run (the message names the
+// package gnuplot-nox) or fails. `gnuplot` is the program to run.
+void write_plots(const std::filesystem::path& png, const std::vector<PlotPanel>& panels,
+                 int width = 960, int panel_height = 360, const std::string& gnuplot = "gnuplot");
 
 }  // namespace ceilnav::app

@@ -12,8 +12,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include "apps/atomic_file.hpp"
 #include "apps/commands.hpp"
+
 #include "apps/plot.hpp"
 #include "apps/progress.hpp"
 #include "apps/rtl_backend.hpp"
@@ -24,6 +26,7 @@
 #include "host/auto_threshold.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
+#include "host/csv.hpp"
 #include "host/driver.hpp"
 #include "host/frame_io.hpp"
 #include "host/model_bus.hpp"
@@ -371,111 +374,150 @@ double sum_of(const std::vector<FrameProfile>& v, F get) {
   return sum;
 }
 
-const char* kFrameCsvHeader =
-    "frame,cycles,tvalid_cycles,accepted,pixels_per_valid_cycle,bubbles,pixels_counted,"
-    "device_cycles,eof_to_irq_cycles,eof_to_irq_register,fifo_high_water,runs_dropped_overflow,"
-    "runs_dropped_row_limit,runs_emitted,runs,run_beats,run_stall_cycles,words_read,"
-    "words_written,configure_cycles,readout_cycles,host_cycles,frame_ok,host_driver_us,"
-    "host_pose_us,pose_status\n";
-
-void write_frame_row(std::ostream& os, size_t i, const FrameProfile& f) {
-  char pose[16], drv[32], ii[32];
-  std::snprintf(drv, sizeof drv, "%.1f", f.host_driver_us);
-  std::snprintf(pose, sizeof pose, "%.1f", f.host_pose_us);
-  std::snprintf(ii, sizeof ii, "%.6f", f.pixels_per_valid_cycle());
-  os << i << ',' << f.cycles << ',' << f.tvalid_cycles << ',' << f.accepted << ',' << ii << ','
-     << f.bubbles << ',' << f.pixels_counted << ',' << f.device_cycles << ',' << f.eof_to_irq_cycles
-     << ',' << f.eof_to_irq_register << ',' << f.fifo_high_water << ',' << f.runs_dropped_overflow
-     << ',' << f.runs_dropped_row_limit << ',' << f.runs_emitted << ',' << f.runs << ','
-     << f.run_beats << ',' << f.run_stall_cycles << ',' << f.words_read << ',' << f.words_written
-     << ',' << f.configure_cycles << ',' << f.readout_cycles << ',' << f.host_cycles << ','
-     << (f.frame_ok ? 1 : 0) << ',' << drv << ',' << pose << ',' << host::to_string(f.pose_status)
-     << '\n';
+void write_frame_header(host::CsvWriter& w) {
+  w.row({"frame",
+         "cycles",
+         "tvalid_cycles",
+         "accepted",
+         "pixels_per_valid_cycle",
+         "bubbles",
+         "pixels_counted",
+         "device_cycles",
+         "eof_to_irq_cycles",
+         "eof_to_irq_register",
+         "fifo_high_water",
+         "runs_dropped_overflow",
+         "runs_dropped_row_limit",
+         "runs_emitted",
+         "runs",
+         "run_beats",
+         "run_stall_cycles",
+         "words_read",
+         "words_written",
+         "configure_cycles",
+         "readout_cycles",
+         "host_cycles",
+         "frame_ok",
+         "host_driver_us",
+         "host_pose_us",
+         "pose_status"});
 }
 
-const char* kSummaryCsvHeader =
-    "scenario,backend,width,height,blanking,gap_probability,backpressure,tapes,frames,"
-    "cycles_min,cycles_max,pixels_per_valid_cycle_min,bubbles_total,eof_to_irq_min,"
-    "eof_to_irq_max,fifo_high_water_max,runs_dropped_overflow_total,runs_mean,"
-    "run_stall_cycles_mean,words_read_mean,words_written_mean,configure_cycles_mean,"
-    "readout_cycles_mean,vertical_blanking_cycles,host_driver_us_median,host_pose_us_median,"
-    "violations\n";
+void write_frame_row(host::CsvWriter& w, size_t i, const FrameProfile& f) {
+  w.integer(i).integer(f.cycles).integer(f.tvalid_cycles).integer(f.accepted);
+  w.fixed(f.pixels_per_valid_cycle(), 6).integer(f.bubbles).integer(f.pixels_counted);
+  w.integer(f.device_cycles).integer(f.eof_to_irq_cycles).integer(f.eof_to_irq_register);
+  w.integer(f.fifo_high_water).integer(f.runs_dropped_overflow).integer(f.runs_dropped_row_limit);
+  w.integer(f.runs_emitted).integer(f.runs).integer(f.run_beats).integer(f.run_stall_cycles);
+  w.integer(f.words_read).integer(f.words_written).integer(f.configure_cycles);
+  w.integer(f.readout_cycles).integer(f.host_cycles).integer(f.frame_ok);
+  w.fixed(f.host_driver_us, 1).fixed(f.host_pose_us, 1).text(host::to_string(f.pose_status));
+  w.end_row();
+}
 
-void write_summary_row(std::ostream& os, const Summary& m, const std::string& backend) {
+void write_summary_header(host::CsvWriter& w) {
+  w.row({"scenario",
+         "backend",
+         "width",
+         "height",
+         "blanking",
+         "gap_probability",
+         "backpressure",
+         "tapes",
+         "frames",
+         "cycles_min",
+         "cycles_max",
+         "pixels_per_valid_cycle_min",
+         "bubbles_total",
+         "eof_to_irq_min",
+         "eof_to_irq_max",
+         "fifo_high_water_max",
+         "runs_dropped_overflow_total",
+         "runs_mean",
+         "run_stall_cycles_mean",
+         "words_read_mean",
+         "words_written_mean",
+         "configure_cycles_mean",
+         "readout_cycles_mean",
+         "vertical_blanking_cycles",
+         "host_driver_us_median",
+         "host_pose_us_median",
+         "violations"});
+}
+
+void write_summary_row(host::CsvWriter& w, const Summary& m, const std::string& backend) {
   const auto& v = m.frames;
-  char buf[1024];
-  std::snprintf(
-      buf, sizeof buf,
-      "%s,%s,%d,%d,%s,%.3f,%.3f,%d,%zu,%.0f,%.0f,%.6f,%.0f,%.0f,%.0f,%.0f,%.0f,%.1f,%.1f,%.1f,"
-      "%.1f,%.1f,%.1f,%u,%.1f,%.1f,%zu\n",
-      m.name.c_str(), backend.c_str(), m.s.width, m.s.height,
-      std::string(to_string(m.s.blanking)).c_str(),
-      m.s.blanking == Blanking::random ? m.s.gap_probability : 0.0, m.s.backpressure, m.s.tapes,
-      v.size(), min_of(v, [](const auto& f) { return f.cycles; }),
-      max_of(v, [](const auto& f) { return f.cycles; }),
-      min_of(v, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
-      sum_of(v, [](const auto& f) { return f.bubbles; }),
-      min_of(v, [](const auto& f) { return f.eof_to_irq_cycles; }),
-      max_of(v, [](const auto& f) { return f.eof_to_irq_cycles; }),
-      max_of(v, [](const auto& f) { return f.fifo_high_water; }),
-      sum_of(v, [](const auto& f) { return f.runs_dropped_overflow; }),
-      mean_of(v, [](const auto& f) { return f.runs; }),
-      mean_of(v, [](const auto& f) { return f.run_stall_cycles; }),
-      mean_of(v, [](const auto& f) { return f.words_read; }),
-      mean_of(v, [](const auto& f) { return f.words_written; }),
-      mean_of(v, [](const auto& f) { return f.configure_cycles; }),
-      mean_of(v, [](const auto& f) { return f.readout_cycles; }), frame_feed(m.s).blanking_cycles,
-      median_of(v, [](const auto& f) { return f.host_driver_us; }),
-      median_of(v, [](const auto& f) { return f.host_pose_us; }), m.problems.size());
-  os << buf;
+  w.text(m.name).text(backend).integer(m.s.width).integer(m.s.height);
+  w.text(to_string(m.s.blanking));
+  w.fixed(m.s.blanking == Blanking::random ? m.s.gap_probability : 0.0, 3);
+  w.fixed(m.s.backpressure, 3).integer(m.s.tapes).integer(v.size());
+  w.fixed(min_of(v, [](const auto& f) { return f.cycles; }), 0);
+  w.fixed(max_of(v, [](const auto& f) { return f.cycles; }), 0);
+  w.fixed(min_of(v, [](const auto& f) { return f.pixels_per_valid_cycle(); }), 6);
+  w.fixed(sum_of(v, [](const auto& f) { return f.bubbles; }), 0);
+  w.fixed(min_of(v, [](const auto& f) { return f.eof_to_irq_cycles; }), 0);
+  w.fixed(max_of(v, [](const auto& f) { return f.eof_to_irq_cycles; }), 0);
+  w.fixed(max_of(v, [](const auto& f) { return f.fifo_high_water; }), 0);
+  w.fixed(sum_of(v, [](const auto& f) { return f.runs_dropped_overflow; }), 0);
+  w.fixed(mean_of(v, [](const auto& f) { return f.runs; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.run_stall_cycles; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.words_read; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.words_written; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.configure_cycles; }), 1);
+  w.fixed(mean_of(v, [](const auto& f) { return f.readout_cycles; }), 1);
+  w.integer(frame_feed(m.s).blanking_cycles);
+  w.fixed(median_of(v, [](const auto& f) { return f.host_driver_us; }), 1);
+  w.fixed(median_of(v, [](const auto& f) { return f.host_pose_us; }), 1);
+  w.integer(m.problems.size()).end_row();
 }
 
 void print_summary(const Summary& m, const std::string& backend) {
   const auto& v = m.frames;
-  std::printf("%s (%s backend): %dx%d, blanking %s", m.name.c_str(), backend.c_str(), m.s.width,
-              m.s.height, std::string(to_string(m.s.blanking)).c_str());
-  if (m.s.blanking == Blanking::random) std::printf(" (gap P %.2f)", m.s.gap_probability);
-  std::printf(", back-pressure %.2f, %d tape%s, %zu frames\n", m.s.backpressure, m.s.tapes,
-              m.s.tapes == 1 ? "" : "s", v.size());
+  fmt::print("{} ({} backend): {}x{}, blanking {}", m.name.c_str(), backend.c_str(), m.s.width,
+             m.s.height, std::string(to_string(m.s.blanking)).c_str());
+  if (m.s.blanking == Blanking::random) fmt::print(" (gap P {:.2f})", m.s.gap_probability);
+  fmt::print(", back-pressure {:.2f}, {} tape{}, {} frames\n", m.s.backpressure, m.s.tapes,
+             m.s.tapes == 1 ? "" : "s", v.size());
   const auto u = [](double x) { return static_cast<unsigned long long>(x); };
-  std::printf("  cycles per frame (SOF..EOF)   %llu .. %llu (pixels %llu)\n",
-              u(min_of(v, [](const auto& f) { return f.cycles; })),
-              u(max_of(v, [](const auto& f) { return f.cycles; })),
-              u(static_cast<double>(m.s.width) * m.s.height));
-  std::printf("  pixels per tvalid cycle (II)  min %.6f   bubbles %llu\n",
-              min_of(v, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
-              u(sum_of(v, [](const auto& f) { return f.bubbles; })));
-  std::printf("  EOF -> irq latency, cycles    %lld .. %lld (register %llu .. %llu)\n",
-              static_cast<long long>(min_of(v, [](const auto& f) { return f.eof_to_irq_cycles; })),
-              static_cast<long long>(max_of(v, [](const auto& f) { return f.eof_to_irq_cycles; })),
-              u(min_of(v, [](const auto& f) { return f.eof_to_irq_register; })),
-              u(max_of(v, [](const auto& f) { return f.eof_to_irq_register; })));
-  std::printf("  run FIFO high-water / drops   max %llu / %llu total (row limit %llu)\n",
-              u(max_of(v, [](const auto& f) { return f.fifo_high_water; })),
-              u(sum_of(v, [](const auto& f) { return f.runs_dropped_overflow; })),
-              u(sum_of(v, [](const auto& f) { return f.runs_dropped_row_limit; })));
-  std::printf("  runs per frame                mean %.1f (run stream stalls %.1f cycles/frame)\n",
-              mean_of(v, [](const auto& f) { return f.runs; }),
-              mean_of(v, [](const auto& f) { return f.run_stall_cycles; }));
-  std::printf("  host AXI4-Lite words / frame  read %.1f, written %.1f\n",
-              mean_of(v, [](const auto& f) { return f.words_read; }),
-              mean_of(v, [](const auto& f) { return f.words_written; }));
-  std::printf(
-      "  host bus cycles / frame       configure %.1f + readout (irq .. done) %.1f; vertical "
-      "blanking %u\n",
+  fmt::print("  cycles per frame (SOF..EOF)   {} .. {} (pixels {})\n",
+             u(min_of(v, [](const auto& f) { return f.cycles; })),
+             u(max_of(v, [](const auto& f) { return f.cycles; })),
+             u(static_cast<double>(m.s.width) * m.s.height));
+  fmt::print("  pixels per tvalid cycle (II)  min {:.6f}   bubbles {}\n",
+             min_of(v, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
+             u(sum_of(v, [](const auto& f) { return f.bubbles; })));
+  fmt::print("  EOF -> irq latency, cycles    {} .. {} (register {} .. {})\n",
+             static_cast<long long>(min_of(v, [](const auto& f) { return f.eof_to_irq_cycles; })),
+             static_cast<long long>(max_of(v, [](const auto& f) { return f.eof_to_irq_cycles; })),
+             u(min_of(v, [](const auto& f) { return f.eof_to_irq_register; })),
+             u(max_of(v, [](const auto& f) { return f.eof_to_irq_register; })));
+  fmt::print("  run FIFO high-water / drops   max {} / {} total (row limit {})\n",
+             u(max_of(v, [](const auto& f) { return f.fifo_high_water; })),
+             u(sum_of(v, [](const auto& f) { return f.runs_dropped_overflow; })),
+             u(sum_of(v, [](const auto& f) { return f.runs_dropped_row_limit; })));
+  fmt::print(
+      "  runs per frame                mean {:.1f} (run stream stalls {:.1f} cycles/frame)\n",
+      mean_of(v, [](const auto& f) { return f.runs; }),
+      mean_of(v, [](const auto& f) { return f.run_stall_cycles; }));
+  fmt::print("  host AXI4-Lite words / frame  read {:.1f}, written {:.1f}\n",
+             mean_of(v, [](const auto& f) { return f.words_read; }),
+             mean_of(v, [](const auto& f) { return f.words_written; }));
+  fmt::print(
+      "  host bus cycles / frame       configure {:.1f} + readout (irq .. done) {:.1f}; vertical "
+      "blanking {}\n",
       mean_of(v, [](const auto& f) { return f.configure_cycles; }),
       mean_of(v, [](const auto& f) { return f.readout_cycles; }), frame_feed(m.s).blanking_cycles);
-  std::printf(
-      "  host time per frame (median)  driver %.1f us (simulation included), pose maths %.1f "
+  fmt::print(
+      "  host time per frame (median)  driver {:.1f} us (simulation included), pose maths {:.1f} "
       "us\n",
       median_of(v, [](const auto& f) { return f.host_driver_us; }),
       median_of(v, [](const auto& f) { return f.host_pose_us; }));
   if (m.problems.empty()) {
-    std::printf("  II = 1 and 0 bubbles on every frame: MET\n");
+    fmt::print("  II = 1 and 0 bubbles on every frame: MET\n");
   } else {
-    std::printf("  VIOLATED (%zu):\n", m.problems.size());
+    fmt::print("  VIOLATED ({}):\n", m.problems.size());
     for (size_t i = 0; i < std::min<size_t>(m.problems.size(), 10); ++i) {
-      std::printf("    %s\n", m.problems[i].c_str());
+      fmt::print("    {}\n", m.problems[i].c_str());
     }
   }
 }
@@ -513,14 +555,6 @@ void check_out_dir(const fs::path& out) {
     throw std::runtime_error("cannot create output folder '" + out.string() + "': '" +
                              ancestor.string() + "' is not a writable folder");
   }
-}
-
-void write_png_atomic(const fs::path& path, const cv::Mat& img) {
-  const std::vector<unsigned char> bytes = encode_png(img);
-  AtomicFile f(path);
-  f.stream().write(reinterpret_cast<const char*>(bytes.data()),
-                   static_cast<std::streamsize>(bytes.size()));
-  f.commit();
 }
 
 }  // namespace
@@ -620,18 +654,18 @@ int run_profile(const ProfileOptions& o) {
   print_summary(main_run, o.backend);
   size_t violations = main_run.problems.size();
   if (!sweep.empty()) {
-    std::printf(
-        "back-pressure sweep (%d frames each): duty -> II min, bubbles, FIFO high-water"
+    fmt::print(
+        "back-pressure sweep ({} frames each): duty -> II min, bubbles, FIFO high-water"
         " max, drops, stall cycles/frame\n",
         o.sweep_frames);
     for (const Summary& m : sweep) {
-      std::printf("  %.2f -> %.6f, %.0f, %.0f, %.0f, %.1f%s\n", m.s.backpressure,
-                  min_of(m.frames, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
-                  sum_of(m.frames, [](const auto& f) { return f.bubbles; }),
-                  max_of(m.frames, [](const auto& f) { return f.fifo_high_water; }),
-                  sum_of(m.frames, [](const auto& f) { return f.runs_dropped_overflow; }),
-                  mean_of(m.frames, [](const auto& f) { return f.run_stall_cycles; }),
-                  m.problems.empty() ? "" : "  VIOLATED");
+      fmt::print("  {:.2f} -> {:.6f}, {:.0f}, {:.0f}, {:.0f}, {:.1f}{}\n", m.s.backpressure,
+                 min_of(m.frames, [](const auto& f) { return f.pixels_per_valid_cycle(); }),
+                 sum_of(m.frames, [](const auto& f) { return f.bubbles; }),
+                 max_of(m.frames, [](const auto& f) { return f.fifo_high_water; }),
+                 sum_of(m.frames, [](const auto& f) { return f.runs_dropped_overflow; }),
+                 mean_of(m.frames, [](const auto& f) { return f.run_stall_cycles; }),
+                 m.problems.empty() ? "" : "  VIOLATED");
       for (const std::string& p : m.problems) std::fprintf(stderr, "  %s\n", p.c_str());
       violations += m.problems.size();
     }
@@ -641,37 +675,37 @@ int run_profile(const ProfileOptions& o) {
     // Every file is staged and renamed into place together (OutputFolder).
     OutputFolder folder(out);
     AtomicFile csv(folder.path("profile.csv"));
-    csv.stream() << kFrameCsvHeader;
+    host::CsvWriter frames_csv(csv.stream());
+    write_frame_header(frames_csv);
     for (size_t i = 0; i < main_run.frames.size(); ++i) {
-      write_frame_row(csv.stream(), i, main_run.frames[i]);
+      write_frame_row(frames_csv, i, main_run.frames[i]);
     }
     AtomicFile summary(folder.path("profile_summary.csv"));
-    summary.stream() << kSummaryCsvHeader;
-    write_summary_row(summary.stream(), main_run, o.backend);
-    for (const Summary& m : sweep) write_summary_row(summary.stream(), m, o.backend);
+    host::CsvWriter summary_csv(summary.stream());
+    write_summary_header(summary_csv);
+    write_summary_row(summary_csv, main_run, o.backend);
+    for (const Summary& m : sweep) write_summary_row(summary_csv, m, o.backend);
 
     const auto& v = main_run.frames;
     const std::vector<double> x = frame_axis(v.size());
-    const cv::Mat latency = stack_plots(
-        {draw_plot({"Frame end (EOF pixel accepted) to irq rise",
-                    "frame",
-                    "cycles",
-                    {{"at the ports", x,
-                      column(v, [](const auto& f) { return f.eof_to_irq_cycles; }), kBlue},
-                     {"EOF_TO_IRQ_CYCLES", x,
-                      column(v, [](const auto& f) { return f.eof_to_irq_register; }), kRed}}}),
-         draw_plot({"Host readout: irq rise to the driver's last transaction",
-                    "frame",
-                    "cycles",
-                    {{"readout", x, column(v, [](const auto& f) { return f.readout_cycles; }),
-                      kGreen}}})});
-    const cv::Mat fifo = draw_plot(
+    const std::vector<PlotPanel> latency{
+        {"Frame end (EOF pixel accepted) to irq rise",
+         "frame",
+         "cycles",
+         {{"at the ports", x, column(v, [](const auto& f) { return f.eof_to_irq_cycles; }), kBlue},
+          {"EOF_TO_IRQ_CYCLES", x, column(v, [](const auto& f) { return f.eof_to_irq_register; }),
+           kRed}}},
+        {"Host readout: irq rise to the driver's last transaction",
+         "frame",
+         "cycles",
+         {{"readout", x, column(v, [](const auto& f) { return f.readout_cycles; }), kGreen}}}};
+    const std::vector<PlotPanel> fifo{
         {"Run FIFO per frame (depth " + std::to_string(regs::kRunFifoDepth) + ")",
          "frame",
          "entries / runs",
          {{"high-water", x, column(v, [](const auto& f) { return f.fifo_high_water; }), kBlue},
           {"drops (overflow)", x, column(v, [](const auto& f) { return f.runs_dropped_overflow; }),
-           kRed}}});
+           kRed}}}};
     std::vector<double> duty, ii, hw, drops, stalls;
     for (const Summary& m : sweep) {
       duty.push_back(m.s.backpressure);
@@ -680,25 +714,26 @@ int run_profile(const ProfileOptions& o) {
       drops.push_back(sum_of(m.frames, [](const auto& f) { return f.runs_dropped_overflow; }));
       stalls.push_back(mean_of(m.frames, [](const auto& f) { return f.run_stall_cycles; }));
     }
-    const cv::Mat throughput = stack_plots(
-        {draw_plot({"Video throughput vs run-stream back-pressure",
-                    "m_axis_runs tready-low duty",
-                    "pixels / tvalid cycle",
-                    {{"min over frames", duty, ii, kBlue}}}),
-         draw_plot({"Run FIFO vs back-pressure",
-                    "m_axis_runs tready-low duty",
-                    "entries",
-                    {{"high-water (max)", duty, hw, kBlue}, {"drops (total)", duty, drops, kRed}}}),
-         draw_plot({"Run stream stalls vs back-pressure",
-                    "m_axis_runs tready-low duty",
-                    "cycles / frame",
-                    {{"tvalid && !tready", duty, stalls, kGreen}}})});
-    // Everything is computed before anything is renamed into place.
+    const std::vector<PlotPanel> throughput{
+        {"Video throughput vs run-stream back-pressure",
+         "m_axis_runs tready-low duty",
+         "pixels / tvalid cycle",
+         {{"min over frames", duty, ii, kBlue}}},
+        {"Run FIFO vs back-pressure",
+         "m_axis_runs tready-low duty",
+         "entries",
+         {{"high-water (max)", duty, hw, kBlue}, {"drops (total)", duty, drops, kRed}}},
+        {"Run stream stalls vs back-pressure",
+         "m_axis_runs tready-low duty",
+         "cycles / frame",
+         {{"tvalid && !tready", duty, stalls, kGreen}}}};
+    // gnuplot draws into the staged folder (PNG, .dat, .gp each); nothing is
+    // renamed into place unless every chart was drawn.
+    write_plots(folder.path("latency.png"), latency);
+    write_plots(folder.path("fifo.png"), fifo);
+    if (!sweep.empty()) write_plots(folder.path("throughput.png"), throughput);
     csv.commit();
     summary.commit();
-    write_png_atomic(folder.path("latency.png"), latency);
-    write_png_atomic(folder.path("fifo.png"), fifo);
-    if (!sweep.empty()) write_png_atomic(folder.path("throughput.png"), throughput);
     folder.commit();
     std::printf("wrote %s/profile.csv, profile_summary.csv, latency.png, fifo.png%s\n",
                 out.string().c_str(), sweep.empty() ? "" : ", throughput.png");

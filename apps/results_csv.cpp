@@ -1,31 +1,10 @@
 #include "apps/results_csv.hpp"
 
-#include <cmath>
-#include <cstdio>
+#include <limits>
+
+#include "host/csv.hpp"
 
 namespace ceilnav::app {
-
-namespace {
-
-std::string number(double v) {
-  if (!std::isfinite(v)) return "";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-
-// File names may contain commas or quotes: quote them as RFC 4180 says.
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"') q += '"';
-    q += c;
-  }
-  return q + "\"";
-}
-
-}  // namespace
 
 std::string frame_status(const host::FrameOutcome& outcome) {
   if (!outcome.results.valid) return std::string(host::to_string(host::Status::frame_invalid));
@@ -33,26 +12,34 @@ std::string frame_status(const host::FrameOutcome& outcome) {
 }
 
 void write_results_header(std::ostream& out) {
-  out << "frame,status,yaw_rad,offset_m,pitch_rad,vp_u,vp_v,pitch_est_rad,points_used,"
-         "residual_px,threshold,passes,zenith_yaw_rad,zenith_offset_m\n";
+  host::CsvWriter(out).row({"frame", "status", "yaw_rad", "offset_m", "pitch_rad", "vp_u", "vp_v",
+                            "pitch_est_rad", "points_used", "residual_px", "threshold", "passes",
+                            "zenith_yaw_rad", "zenith_offset_m"});
 }
 
 void write_results_row(std::ostream& out, const std::string& frame_name,
                        const host::FrameOutcome& o) {
+  constexpr int kDigits = 10;  // significant digits of every real column
   const std::string status = frame_status(o);
   const bool ok = status == "ok";
   const host::TapePose& p = o.pose;
-  out << csv_field(frame_name) << ',' << status << ',';
-  out << (ok ? number(p.yaw_rad) : "") << ',' << (ok ? number(p.offset_m) : "") << ',';
-  out << (ok ? number(p.pitch_rad) : "") << ',';
-  out << (ok && p.vp_finite ? number(p.vp_u_px) : "") << ','
-      << (ok && p.vp_finite ? number(p.vp_v_px) : "") << ',';
-  out << (ok && p.pitch_est_valid ? number(p.pitch_est_rad) : "") << ',';
-  out << p.points_used << ',' << (ok ? number(p.residual_rms_px) : "") << ',';
-  out << static_cast<int>(o.settings.threshold) << ',' << o.passes << ',';
+  // An absent value is an empty field; NaN never reaches the file.
+  const auto value = [&](bool present, double v) -> double {
+    return present ? v : std::numeric_limits<double>::quiet_NaN();
+  };
   const bool zenith_ok = o.zenith && o.zenith->status == host::Status::ok;
-  out << (zenith_ok ? number(o.zenith->yaw_rad) : "") << ','
-      << (zenith_ok ? number(o.zenith->offset_m) : "") << '\n';
+  host::CsvWriter w(out);
+  w.text(frame_name).text(status);
+  w.general(value(ok, p.yaw_rad), kDigits).general(value(ok, p.offset_m), kDigits);
+  w.general(value(ok, p.pitch_rad), kDigits);
+  w.general(value(ok && p.vp_finite, p.vp_u_px), kDigits)
+      .general(value(ok && p.vp_finite, p.vp_v_px), kDigits);
+  w.general(value(ok && p.pitch_est_valid, p.pitch_est_rad), kDigits);
+  w.integer(p.points_used).general(value(ok, p.residual_rms_px), kDigits);
+  w.integer(static_cast<int>(o.settings.threshold)).integer(o.passes);
+  w.general(value(zenith_ok, zenith_ok ? o.zenith->yaw_rad : 0.0), kDigits)
+      .general(value(zenith_ok, zenith_ok ? o.zenith->offset_m : 0.0), kDigits);
+  w.end_row();
 }
 
 }  // namespace ceilnav::app

@@ -236,7 +236,7 @@ for backend in $CLI_BACKENDS; do
   else
     bad "profile $backend exit 0" "$(tail -5 "$work/profile_$backend.out")"
   fi
-  for f in profile.csv profile_summary.csv latency.png fifo.png throughput.png; do
+  for f in profile.csv profile_summary.csv latency.png fifo.png throughput.png latency.dat fifo.dat throughput.dat; do
     [ -s "$pdir/$f" ] && ok "profile $backend wrote $f" || bad "profile $backend wrote $f"
   done
   rows=$(($(wc -l <"$pdir/profile.csv" 2>/dev/null || echo 1) - 1))

@@ -219,20 +219,5 @@ TEST(Profile, BlankingNames) {
   EXPECT_THROW(parse_blanking("ntsc"), std::runtime_error);
 }
 
-TEST(Plot, DrawsSeriesInsideTheAxes) {
-  PlotPanel panel{"t", "x", "y", {{"a", {0, 1, 2}, {5, 7, 6}, cv::Scalar(255, 0, 0)}}};
-  const cv::Mat img = draw_plot(panel, 400, 300);
-  ASSERT_EQ(img.size(), cv::Size(400, 300));
-  int blue = 0;
-  for (int y = 0; y < img.rows; ++y) {
-    for (int x = 0; x < img.cols; ++x) {
-      const auto p = img.at<cv::Vec3b>(y, x);
-      blue += p[0] > 200 && p[1] < 80 && p[2] < 80 ? 1 : 0;
-    }
-  }
-  EXPECT_GT(blue, 50);
-  EXPECT_FALSE(encode_png(img).empty());
-}
-
 }  // namespace
 }  // namespace ceilnav::app
