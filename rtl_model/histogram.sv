@@ -1,12 +1,14 @@
 // histogram: 256 bins per frame of the camera grey or the LUT remap.
-// Two ping-pong BRAM banks of 256 x BinBits with a pipelined read-modify-write
-// (read on the sampling edge, write on the next edge, forwarding for
-// back-to-back hits on one bin) and a flash-cleared valid bit per bin in
-// flip-flops: one set for the accumulating frame, one copy for the result
-// bank (the bank roles swap, the valid sets do not: no bank mux on them).
-// Cycle-exact twin of stream/histogram.cpp
-// (Histogram::clock with the read port); see docs/blocks/histogram.md.
-// done_o: EOF sampled on edge e -> done_o high after edge e+1 (1 cycle).
+// Three BRAM banks of 256 x BinBits rotate: the accumulating bank (pipelined
+// read-modify-write: read on the sampling edge, write on the next edge,
+// forwarding for back-to-back hits on one bin), the result bank (read port)
+// and a bank being cleared by a sweep (one bin per edge on its otherwise idle
+// write port) after it stopped being the result bank. Every frame starts in a
+// clean bank, so no per-bin valid bits exist. A frame that starts while no
+// clean bank is free is not counted (count_ok_o low at its SOF); the
+// pipeline then drops it at EOF (moment_gen eof_drop_i).
+// Cycle-exact twin of stream/histogram.cpp; see docs/blocks/histogram.md.
+// done_o: kept EOF sampled on edge e -> done_o high after edge e+1 (1 cycle).
 // Read port: hist_rd_en_i/hist_rd_bin_i sampled on edge t ->
 // hist_rd_data_o after edge t (bin of the results before edge t), else 0.
 module histogram #(
@@ -31,6 +33,10 @@ module histogram #(
 
   // Source of the bin index: 0 = camera grey, 1 = LUT remap; latched at SOF
   input  logic                 source_remap_i,
+  // The frame of the beat on the input is counted (Mealy; Histogram::counts)
+  output logic                 count_ok_o,
+  // With the EOF beat: 1 = the pipeline publishes this frame, 0 = dropped
+  input  logic                 keep_i,
 
   // Results: one-cycle pulse when a new frame's bins become readable
   output logic                 done_o,
@@ -41,189 +47,227 @@ module histogram #(
   output logic [BinBits-1:0]   hist_rd_data_o
 );
 
+  localparam int unsigned Banks = 3;
   localparam logic [BinBits-1:0] MaxCount = BinBits'(1) << (2 * CoordBits);
+
+  typedef logic [1:0] bank_t;
 
   // Position, EOL and mask are not needed for a histogram.
   logic unused_lut;
   assign unused_lut = ^{s_lut_x_i, s_lut_y_i, s_lut_eol_i, s_lut_mask_i};
 
   // ---------------------------------------------------------------------------
-  // Bank roles and frame state
-  logic acc_bank_d, acc_bank_q;    // bank the open frame accumulates into
-  logic disp_bank_d, disp_bank_q;  // bank the read port reads
-  logic fin_bank_d, fin_bank_q;    // bank that completed on the previous edge
-  logic frame_open_d, frame_open_q;
-  logic source_remap_d, source_remap_q;
-  logic eof_d, eof_q;              // EOF pixel sampled on the previous edge
-  logic done_q;
+  // State that describes the BRAM contents: not reset (initialised with the
+  // configuration, like the BRAM); a reset marks the last frame's bank dirty.
+  logic [Banks-1:0] dirty_q = '0;  // bank needs clearing or is being cleared
+  bank_t            disp_q  = '0;  // result bank
+  bank_t            acc_q   = '0;  // bank of the open or last frame
 
-  logic [255:0] valid_acc_q;   // per bin: counted in the accumulating bank's frame
-  logic [255:0] valid_disp_q;  // per bin: counted in the result bank's frame
+  logic        counting_q, frame_open_q, source_remap_q, eof_q, done_q, res_valid_q;
+  logic        rst_mark_q;  // since the last reset, no edge yet: acc_q counts as dirty
+  logic [Banks-1:0] dirty;  // dirty_q with the reset's mark
 
   // Stage 1 -> 2 of the read-modify-write
-  logic               s1_accum_d, s1_accum_q;  // count written on the next edge
-  logic [7:0]         s1_bin_d, s1_bin_q;
-  logic               s1_bank_d, s1_bank_q;
-  logic               s1_hit_d, s1_hit_q;      // bin already counted this frame
-  logic               s1_fwd_d, s1_fwd_q;      // its count is being written: forward it
-  logic [BinBits-1:0] last_count_q;            // count written on the last edge
+  logic               s1_accum_q;  // count written on the next edge
+  logic               s1_sof_q;    // first pixel of its frame: the bank reads 0
+  logic [7:0]         s1_bin_q;
+  bank_t              s1_bank_q;
+  logic               s1_fwd_q;    // its count is being written: forward it
+  logic [BinBits-1:0] last_count_q;
 
   // Read port
-  logic rd_en_q, rd_hit_q, rd_bank_q;
+  logic  rd_en_q;
+  bank_t rd_bank_q;
 
   // ---------------------------------------------------------------------------
   // Stage 1: classify the sampled beat
-  logic         open_eff;  // frame open after this beat's abort
-  logic         src_remap;
-  logic [7:0]   bin;
-  logic         accum;
-  logic [255:0] bin_onehot;
-  logic [255:0] valid_acc_d;
+  logic  sof, free_ok, beat_counts, src_remap;
+  bank_t free_bank, bank;
+  logic [7:0] bin;
 
-  assign open_eff    = frame_open_q & ~s_lut_abort_i;
+  // A reset marks the bank of the last frame dirty (it may hold a partial
+  // count) at once; dirty_q takes the mark on the first edge after the reset.
+  always_comb begin
+    dirty = dirty_q;
+    if (rst_mark_q) begin
+      dirty[acc_q] = 1'b1;
+    end
+  end
+
+  // The lowest clean bank that is neither the result bank nor the last frame's.
+  always_comb begin
+    free_ok   = 1'b0;
+    free_bank = '0;
+    for (int b = Banks - 1; b >= 0; b--) begin
+      if (!dirty[b] && bank_t'(b) != disp_q && bank_t'(b) != acc_q) begin
+        free_ok   = 1'b1;
+        free_bank = bank_t'(b);
+      end
+    end
+  end
+
+  assign sof         = s_lut_valid_i & s_lut_sof_i;
+  assign beat_counts = sof ? free_ok
+                           : (s_lut_valid_i & frame_open_q & ~s_lut_abort_i & counting_q);
+  assign count_ok_o  = beat_counts;
   assign src_remap   = s_lut_sof_i ? source_remap_i : source_remap_q;
   assign bin         = src_remap ? s_lut_remap_i : s_lut_grey_i;
-  assign accum       = s_lut_valid_i & (s_lut_sof_i | open_eff);
-
-  always_comb begin
-    bin_onehot      = '0;
-    bin_onehot[bin] = accum;
-  end
-
-  // The SOF pixel flash-clears its bank's valid bits in its own edge.
-  assign valid_acc_d = ((s_lut_valid_i && s_lut_sof_i) ? '0 : valid_acc_q) | bin_onehot;
-
-  assign done_o = done_q;
-
-  always_comb begin
-    // Stage 2 of the finished frame: switch the result bank.
-    disp_bank_d = eof_q ? fin_bank_q : disp_bank_q;
-    eof_d       = 1'b0;
-
-    acc_bank_d     = acc_bank_q;
-    fin_bank_d     = fin_bank_q;
-    frame_open_d   = open_eff;
-    source_remap_d = source_remap_q;
-
-    if (s_lut_valid_i && s_lut_sof_i) begin
-      source_remap_d = source_remap_i;
-      frame_open_d   = 1'b1;
-    end
-    if (accum && s_lut_eof_i) begin
-      fin_bank_d   = acc_bank_q;
-      acc_bank_d   = ~acc_bank_q;
-      frame_open_d = 1'b0;
-      eof_d        = 1'b1;
-    end
-  end
-
-  assign s1_accum_d = accum;
-  assign s1_bin_d   = bin;
-  assign s1_bank_d  = acc_bank_q;
-  assign s1_hit_d   = ~s_lut_sof_i & valid_acc_q[bin];
-  assign s1_fwd_d   = s1_accum_q & (s1_bin_q == bin) & (s1_bank_q == acc_bank_q);
+  // The bank this beat counts into.
+  assign bank        = sof ? free_bank : acc_q;
 
   // ---------------------------------------------------------------------------
-  // BRAM banks: one write port (stage 2) and one synchronous read port, shared
-  // by the pixel read (accumulating bank) and the host read (result bank). The
-  // SOF pixel needs no read (its bin is invalid), and a bank is both the
-  // accumulating and the result bank only in the cycle after an EOF edge, when
-  // only an SOF pixel can accumulate: the two reads never meet on one bank.
-  (* ram_style = "block" *) logic [BinBits-1:0] bank0_mem [256];
-  (* ram_style = "block" *) logic [BinBits-1:0] bank1_mem [256];
-  logic [BinBits-1:0] bank0_rd_q, bank1_rd_q;
+  // BRAM banks: one write port (stage 2 of the accumulating bank, or the
+  // bank's own clear sweep while it is dirty: never both) and one synchronous
+  // read port (the pixel read of the accumulating bank, or the host read of
+  // the result bank: the same bank only after a publication, until the next
+  // SOF, when no pixel read happens).
+  logic                     pix_rd;
+  logic [Banks*BinBits-1:0] bank_rd_q;  // bank b at [b*BinBits +: BinBits]
+  logic [Banks-1:0]         clr_busy_q, clr_done;
+  logic [BinBits-1:0]       count_rd, new_count;
 
-  logic               pix_rd, host_rd0, host_rd1, rd0_en, rd1_en;
-  logic [7:0]         rd0_addr, rd1_addr;
-  logic [BinBits-1:0] count_rd, new_count;
-  logic               wr0_en, wr1_en;
+  assign pix_rd = beat_counts & ~sof;
 
-  assign pix_rd   = accum & ~s_lut_sof_i;
-  assign host_rd0 = hist_rd_en_i & ~disp_bank_q;
-  assign host_rd1 = hist_rd_en_i & disp_bank_q;
-  assign rd0_en   = (pix_rd & ~acc_bank_q) | host_rd0;
-  assign rd1_en   = (pix_rd & acc_bank_q) | host_rd1;
-  assign rd0_addr = (pix_rd & ~acc_bank_q) ? bin : hist_rd_bin_i;
-  assign rd1_addr = (pix_rd & acc_bank_q) ? bin : hist_rd_bin_i;
+  for (genvar b = 0; b < Banks; b++) begin : g_bank
+    (* ram_style = "block" *) logic [BinBits-1:0] mem [256];
+    // Configuration contents: zeros (every bank clean, dirty_q = 0).
+    initial begin
+      for (int i = 0; i < 256; i++) begin
+        mem[i] = '0;
+      end
+    end
+
+    logic       rd_pix, rd_en, wr_acc, wr_en;
+    logic [7:0] rd_addr, wr_addr, clr_ptr_q;
+
+    assign rd_pix  = pix_rd && acc_q == bank_t'(b);
+    assign rd_en   = rd_pix || (hist_rd_en_i && disp_q == bank_t'(b));
+    assign rd_addr = rd_pix ? bin : hist_rd_bin_i;
+    assign wr_acc  = s1_accum_q && s1_bank_q == bank_t'(b);
+    assign wr_en   = wr_acc || clr_busy_q[b];
+    assign wr_addr = wr_acc ? s1_bin_q : clr_ptr_q;
+    assign clr_done[b] = clr_busy_q[b] & (clr_ptr_q == 8'd255);
+
+    always_ff @(posedge clk_i) begin
+      if (wr_en) begin
+        mem[wr_addr] <= wr_acc ? new_count : '0;
+      end
+      if (rd_en) begin
+        bank_rd_q[b*BinBits +: BinBits] <= mem[rd_addr];
+      end
+    end
+
+    // Clear sweep: starts the edge after the bank became dirty, one bin per edge.
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) begin
+        clr_busy_q[b] <= 1'b0;
+        clr_ptr_q     <= '0;
+      end else if (clr_busy_q[b]) begin
+        clr_ptr_q <= clr_ptr_q + 8'd1;
+        if (clr_done[b]) begin
+          clr_busy_q[b] <= 1'b0;
+        end
+      end else if (dirty[b]) begin
+        clr_busy_q[b] <= 1'b1;
+        clr_ptr_q     <= '0;
+      end
+    end
+  end
 
   // Stage 2: the count of the pixel sampled on the previous edge.
-  assign count_rd  = s1_fwd_q ? last_count_q : (s1_bank_q ? bank1_rd_q : bank0_rd_q);
-  assign new_count = (s1_hit_q ? count_rd : '0) + BinBits'(1);
-  assign wr0_en    = s1_accum_q & ~s1_bank_q;
-  assign wr1_en    = s1_accum_q & s1_bank_q;
+  assign count_rd  = s1_fwd_q ? last_count_q : bank_rd_q[s1_bank_q*BinBits +: BinBits];
+  assign new_count = (s1_sof_q ? '0 : count_rd) + BinBits'(1);
 
-  always_ff @(posedge clk_i) begin
-    if (wr0_en) begin
-      bank0_mem[s1_bin_q] <= new_count;
+  // ---------------------------------------------------------------------------
+  // Bank roles (not reset). Every source of a change below is held inactive
+  // by the reset, so an edge in reset changes nothing but the reset's mark.
+  // Order of the marks within an edge: the sweeps' "clean" first, then every
+  // "dirty" (a set wins).
+  logic [Banks-1:0] dirty_d;
+
+  always_comb begin
+    dirty_d = dirty & ~clr_done;
+    if (eof_q) begin
+      dirty_d[disp_q] = 1'b1;  // the old result bank
     end
-    if (rd0_en) begin
-      bank0_rd_q <= bank0_mem[rd0_addr];
+    if (s_lut_abort_i && frame_open_q && counting_q) begin
+      dirty_d[acc_q] = 1'b1;
+    end
+    if (s_lut_valid_i && s_lut_eof_i && beat_counts && !keep_i) begin
+      dirty_d[bank] = 1'b1;
     end
   end
 
   always_ff @(posedge clk_i) begin
-    if (wr1_en) begin
-      bank1_mem[s1_bin_q] <= new_count;
+    dirty_q <= dirty_d;
+    if (eof_q) begin
+      disp_q <= acc_q;
     end
-    if (rd1_en) begin
-      bank1_rd_q <= bank1_mem[rd1_addr];
+    if (sof && free_ok) begin
+      acc_q <= free_bank;
     end
   end
 
   // ---------------------------------------------------------------------------
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      acc_bank_q     <= 1'b0;
-      disp_bank_q    <= 1'b1;
-      fin_bank_q     <= 1'b0;
+      rst_mark_q     <= 1'b1;
+      counting_q     <= 1'b0;
       frame_open_q   <= 1'b0;
       source_remap_q <= 1'b0;
       eof_q          <= 1'b0;
       done_q         <= 1'b0;
-      valid_acc_q    <= '0;
-      valid_disp_q   <= '0;
+      res_valid_q    <= 1'b0;
       s1_accum_q     <= 1'b0;
+      s1_sof_q       <= 1'b0;
       s1_bin_q       <= 8'd0;
-      s1_bank_q      <= 1'b0;
-      s1_hit_q       <= 1'b0;
+      s1_bank_q      <= '0;
       s1_fwd_q       <= 1'b0;
       last_count_q   <= '0;
       rd_en_q        <= 1'b0;
-      rd_hit_q       <= 1'b0;
-      rd_bank_q      <= 1'b0;
+      rd_bank_q      <= '0;
     end else begin
-      acc_bank_q     <= acc_bank_d;
-      disp_bank_q    <= disp_bank_d;
-      fin_bank_q     <= fin_bank_d;
-      frame_open_q   <= frame_open_d;
-      source_remap_q <= source_remap_d;
-      eof_q          <= eof_d;
-      done_q         <= eof_q;
-      if (accum) begin
-        valid_acc_q <= valid_acc_d;
-      end
-      // The result bank switches to the finished frame's bank on this edge:
-      // its valid set is the accumulating set before this edge (an SOF pixel
-      // on this edge clears valid_acc_q only after it).
+      rst_mark_q <= 1'b0;
+      // Publication (stage 2 of the kept EOF)
+      done_q <= eof_q;
       if (eof_q) begin
-        valid_disp_q <= valid_acc_q;
+        res_valid_q <= 1'b1;
       end
-      s1_accum_q     <= s1_accum_d;
-      s1_bin_q       <= s1_bin_d;
-      s1_bank_q      <= s1_bank_d;
-      s1_hit_q       <= s1_hit_d;
-      s1_fwd_q       <= s1_fwd_d;
+      eof_q <= 1'b0;
+      // Stage 1: frame state
+      if (s_lut_abort_i) begin
+        frame_open_q <= 1'b0;
+        counting_q   <= 1'b0;
+      end
+      if (sof) begin
+        source_remap_q <= source_remap_i;
+        frame_open_q   <= 1'b1;
+      end
+      if (s_lut_valid_i && (sof || (frame_open_q && !s_lut_abort_i))) begin
+        counting_q <= beat_counts;
+        if (s_lut_eof_i) begin
+          frame_open_q <= 1'b0;
+          counting_q   <= 1'b0;
+          eof_q        <= beat_counts & keep_i;
+        end
+      end
+      s1_accum_q <= beat_counts;
+      s1_sof_q   <= sof;
+      s1_bin_q   <= bin;
+      s1_bank_q  <= bank;
+      s1_fwd_q   <= s1_accum_q & ~sof & (s1_bin_q == bin) & (s1_bank_q == bank);
       if (s1_accum_q) begin
         last_count_q <= new_count;
       end
-      rd_en_q        <= hist_rd_en_i;
-      rd_hit_q       <= valid_disp_q[hist_rd_bin_i];
-      rd_bank_q      <= disp_bank_q;
+      rd_en_q   <= hist_rd_en_i & res_valid_q;
+      rd_bank_q <= disp_q;
     end
   end
 
-  // The BRAM output registers have no reset: gated by the read's valid bit.
-  assign hist_rd_data_o = (rd_en_q && rd_hit_q) ? (rd_bank_q ? bank1_rd_q : bank0_rd_q) : '0;
+  assign done_o = done_q;
+
+  // The BRAM output registers have no reset: gated by the read's enable.
+  assign hist_rd_data_o = rd_en_q ? bank_rd_q[rd_bank_q*BinBits +: BinBits] : '0;
 
 `ifndef SYNTHESIS
   // A bin counts at most every pixel of the largest frame.
@@ -231,10 +275,13 @@ module histogram #(
       s1_accum_q |-> (new_count <= MaxCount));
   // The pixel read and the host read never want the same bank's port.
   ReadPortsDisjoint: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      !(pix_rd && hist_rd_en_i && acc_bank_q == disp_bank_q));
-  // The result bank is never written while the host may read it.
-  ResultBankNotWritten: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      !(s1_accum_q && s1_bank_q == disp_bank_q));
+      !(pix_rd && hist_rd_en_i && acc_q == disp_q));
+  // A sweep never clears the bank being written or read as the result.
+  SweepDisjoint: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      !(s1_accum_q && clr_busy_q[s1_bank_q]) && !(res_valid_q && clr_busy_q[disp_q]));
+  // A frame only ever counts into a clean bank.
+  CountsIntoCleanBank: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      beat_counts |-> !dirty[bank]);
 `endif
 
 endmodule

@@ -23,6 +23,9 @@ module moment_gen (
   input  logic        s_lut_abort_i,
   input  logic [7:0]  s_lut_remap_i,
   input  logic        s_lut_mask_i,
+  // The EOF beat on the input is dropped (counted as an overrun, no combine):
+  // the histogram had no cleared bank for this frame.
+  input  logic        eof_drop_i,
 
   output logic        done_o,          // one-cycle pulse: the moment outputs were just updated
   output logic        done_next_o,     // done_o rises on the next edge (Moore)
@@ -217,8 +220,8 @@ module moment_gen (
 
   // ---------------------------------------------------------------------------
   // Combine control. An EOF is accepted if no combine runs or this is its done
-  // edge (kCombineCycles edges after the last accepted EOF); otherwise the
-  // frame is dropped and counted.
+  // edge (kCombineCycles edges after the last accepted EOF), and eof_drop_i is
+  // low; otherwise the frame is dropped and counted.
   logic               busy_q;
   logic [CntBits-1:0] cnt_q;
   logic               accept, last_step;
@@ -226,7 +229,7 @@ module moment_gen (
   logic [DimBits-1:0] w_q, h_q;
 
   assign last_step = busy_q & (cnt_q == DoneCnt);
-  assign accept    = eof_take & (~busy_q | last_step);
+  assign accept    = eof_take & ~eof_drop_i & (~busy_q | last_step);
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin

@@ -198,8 +198,11 @@ module pipeline #(
   logic        mom_wr_valid;
   logic [4:0]  mom_wr_index;
   logic [31:0] mom_wr_data;
-  logic        unused_hist_done;
+  logic        unused_hist_done, hist_count_ok;
 
+  // A frame the histogram cannot count (no cleared bank at its SOF) is dropped
+  // at its EOF by moment_gen (eof_drop_i); the histogram keeps (publishes)
+  // exactly the frames moment_gen takes.
   histogram #(
     .CoordBits(CoordBits)
   ) u_histogram (
@@ -216,6 +219,8 @@ module pipeline #(
     .s_lut_remap_i (lut_remap),
     .s_lut_mask_i  (lut_mask),
     .source_remap_i(cfg_lut_q[CfgHistSrc]),
+    .count_ok_o    (hist_count_ok),
+    .keep_i        (mom_accept),
     .done_o        (unused_hist_done),
     .hist_rd_en_i,
     .hist_rd_bin_i,
@@ -235,6 +240,7 @@ module pipeline #(
     .s_lut_abort_i  (lut_abort),
     .s_lut_remap_i  (lut_remap),
     .s_lut_mask_i   (lut_mask),
+    .eof_drop_i     (~hist_count_ok),
     .done_o         (mom_done),
     .done_next_o    (mom_done_next),
     .eof_accept_o   (mom_accept),

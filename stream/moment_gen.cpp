@@ -100,10 +100,10 @@ uint32_t MomentGen::moment_word(const MomentResults& r, int w) {
   return static_cast<uint32_t>((w / kMomentCount) % 2 == 0 ? m : m >> 32);
 }
 
-void MomentGen::clock(const LutBeat& in) {
+void MomentGen::clock(const LutBeat& in, bool eof_drop) {
   // ---- Combine: only its timing is modelled (the values were formed at EOF).
   const bool last_step = combine_busy_q_ && combine_left_q_ == 1;
-  const bool combine_free = !combine_busy_q_ || last_step;
+  const bool combine_free = (!combine_busy_q_ || last_step) && !eof_drop;
   done_q_ = last_step;
   if (last_step) {
     wr_active_q_ = true;

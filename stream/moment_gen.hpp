@@ -66,10 +66,13 @@ class MomentGen {
   // Asynchronous active-low reset: all registers to zero, no frame open.
   void reset();
 
-  // One rising clock edge; samples the LutBeat port (remap, mask, pix.*).
+  // One rising clock edge; samples the LutBeat port (remap, mask, pix.*) and
+  // eof_drop (RTL eof_drop_i): an EOF beat sampled with eof_drop high is not
+  // accepted (no combine, no done) and counts as an overrun, as if the combine
+  // were busy; the pipeline drops a frame the histogram could not count.
   // Throws std::logic_error if pix.x / pix.y differ from the block's counters
   // or the frame is not rectangular (frame_check rules both out).
-  void clock(const LutBeat& in);
+  void clock(const LutBeat& in, bool eof_drop = false);
 
   // Registered outputs.
   bool done() const { return done_q_; }  // one-cycle pulse: results() just updated
@@ -85,7 +88,8 @@ class MomentGen {
   bool done_next() const { return combine_busy_q_ && combine_left_q_ == 1; }
   // Frames whose results were discarded because their EOF came fewer than
   // kCombineCycles edges after the previous accepted EOF (only frames of
-  // fewer than kCombineCycles pixels plus blanking can do that). Saturating.
+  // fewer than kCombineCycles pixels plus blanking can do that) or with
+  // eof_drop high. Saturating.
   uint32_t overrun_count() const { return overrun_count_q_; }
 
   // Fast frame-at-a-time path, equal to clock()-ing the frame. Rows may come in

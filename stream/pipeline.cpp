@@ -55,12 +55,16 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, boo
   // sample lut_out). class_moments keeps only the frames that moment_gen
   // takes (eof_keep = moment_gen's eof_accept), so its outputs still hold the
   // frame when moment_gen publishes it; they are read before its edge.
+  // A frame the histogram cannot count (no cleared bank at its SOF) is
+  // dropped at its EOF by moment_gen (eof_drop); the histogram keeps (will
+  // publish) exactly the frames moment_gen takes.
   const uint32_t overruns_before = mom_.overrun_count();
   const ClassMomentResults class_results = cls_.results();
-  hist_.clock(lut_out, cfg_lut_.hist_source_remap, hist_rd_en, hist_rd_bin);
-  mom_.clock(lut_out);
+  const bool hist_counts = hist_.counts(lut_out);
+  mom_.clock(lut_out, /*eof_drop=*/!hist_counts);
   const bool mom_accept =
       lut_out.pix.valid && lut_out.pix.eof && mom_.overrun_count() == overruns_before;
+  hist_.clock(lut_out, cfg_lut_.hist_source_remap, /*keep=*/mom_accept, hist_rd_en, hist_rd_bin);
   if (has_class_moments_) cls_.clock(lut_out, cfg_lut_.class_window, mom_accept);
   runs_.set_active_config(cfg_lut_.runs);
   runs_.clock(lut_out, m_axis_runs_tready);

@@ -79,7 +79,8 @@ class Pipeline {
   static constexpr int kHistSwitchCycles = 2 + Histogram::kDoneLatencyCycles;
   const FrameErrorCounters& error_counters() const { return fc_.counters(); }
   // Good frames whose results were not published because they ended while
-  // moment_gen was still combining the previous frame (saturating).
+  // moment_gen was still combining the previous frame, or started while the
+  // histogram had no cleared bank (saturating; docs/blocks/pipeline.md).
   uint32_t frames_overrun() const { return mom_.overrun_count(); }
   // moment_gen's result words: the published moments as register words, one
   // per cycle for MomentGen::kMomentWords cycles from frame_done() on (into

@@ -1,5 +1,6 @@
 // histogram: clocked == fast == cv::calcHist exactly, frames back to back with
-// zero blanking, aborted frames never published, stale bins never resurface.
+// zero blanking, aborted and dropped frames never published, stale bins never
+// resurface, the clear sweep's timing and the frames it cannot serve.
 #include "stream/histogram.hpp"
 
 #include <gtest/gtest.h>
@@ -20,14 +21,15 @@ struct Published {
   std::vector<HistogramResults> results;  // one per done() pulse
   std::vector<uint64_t> done_cycles;      // edge index at which done() rose
   std::vector<uint64_t> eof_cycles;       // edge index at which the EOF pixel was on s_axis_video
+  std::vector<bool> sof_counted;          // per SOF reaching the histogram: counts() on it
 };
 
 // frame_check -> thresh_lut -> histogram. source(i) is the configuration input
-// before beat i. Checks that results()
-// only change when done() rises.
-template <typename F>
+// before beat i, keep(f) the keep input with the EOF of the f-th frame that
+// reaches the histogram. Checks that results() only change when done() rises.
+template <typename F, typename K>
 Published run_chain(Histogram& hist, const std::array<LutEntry, 256>& table,
-                    const std::vector<VideoBeat>& beats, uint16_t w, uint16_t h, F source,
+                    const std::vector<VideoBeat>& beats, uint16_t w, uint16_t h, F source, K keep,
                     int drain_cycles = 4) {
   FrameCheck fc;
   ThreshLut lut;
@@ -41,7 +43,11 @@ Published run_chain(Histogram& hist, const std::array<LutEntry, 256>& table,
     const VideoBeat beat = i < beats.size() ? beats[i] : VideoBeat{};
     const LutBeat lut_out = lut.m_lut();
     const PixelBeat fc_out = fc.m_pix();
-    hist.clock(lut_out, source(i));
+    if (lut_out.pix.valid && lut_out.pix.sof) {
+      out.sof_counted.push_back(hist.counts(lut_out));
+    }
+    const size_t frame = out.sof_counted.empty() ? 0 : out.sof_counted.size() - 1;
+    hist.clock(lut_out, source(i), keep(frame));
     lut.clock(fc_out, beat.tvalid && beat.tuser);
     fc.clock(beat, w, h);
     if (fc.m_pix().valid && fc.m_pix().eof) {
@@ -59,6 +65,20 @@ Published run_chain(Histogram& hist, const std::array<LutEntry, 256>& table,
     }
   }
   return out;
+}
+
+template <typename F>
+Published run_chain(Histogram& hist, const std::array<LutEntry, 256>& table,
+                    const std::vector<VideoBeat>& beats, uint16_t w, uint16_t h, F source,
+                    int drain_cycles = 4) {
+  return run_chain(
+      hist, table, beats, w, h, source, [](size_t) { return true; }, drain_cycles);
+}
+
+// Idle cycles after a frame that let the bank it frees be cleared before the
+// frame after next starts (frames of fewer pixels need them).
+void append_clear_blanking(std::vector<VideoBeat>& beats, int pixels) {
+  test::append_gaps(beats, std::max(0, Histogram::kClearCycles + 2 - pixels));
 }
 
 std::array<LutEntry, 256> random_table(std::mt19937& rng) {
@@ -103,6 +123,7 @@ TEST(Histogram, ClockedEqualsFastEqualsGoldenBackToBack) {
         for (int f = 0; f < 3; ++f) {
           images.push_back(f == 1 ? test::blob_image(rng, w, h) : test::random_image(rng, w, h));
           test::append_frame(beats, images.back(), rng, gap_prob);
+          append_clear_blanking(beats, w * h);  // none for frames of >= 258 pixels
         }
         Histogram hist;
         const Published pub =
@@ -157,6 +178,7 @@ TEST(Histogram, StaleBinsNeverResurface) {
   std::vector<VideoBeat> beats;
   for (const cv::Mat& img : images) {
     test::append_frame(beats, img, rng, 0.0);
+    append_clear_blanking(beats, 16 * 16);
   }
   Histogram hist;
   const Published pub = run_chain(hist, table, beats, 16, 16, [](size_t) { return false; });
@@ -175,6 +197,7 @@ TEST(Histogram, AbortedFrameIsNeverPublished) {
   for (bool early_sof : {false, true}) {
     std::vector<VideoBeat> beats;
     test::append_frame(beats, a, rng, 0.1);
+    append_clear_blanking(beats, 0);
     std::vector<VideoBeat> broken;
     test::append_frame(broken, bad, rng, 0.0);
     if (early_sof) {
@@ -183,6 +206,7 @@ TEST(Histogram, AbortedFrameIsNeverPublished) {
       broken[35].tlast = true;  // early EOL in row 3
     }
     beats.insert(beats.end(), broken.begin(), broken.end());
+    if (!early_sof) append_clear_blanking(beats, 0);
     test::append_frame(beats, b, rng, 0.0);
     Histogram hist;
     const Published pub = run_chain(hist, table, beats, 10, 8, [](size_t) { return false; });
@@ -201,6 +225,7 @@ TEST(Histogram, SourceSelectLatchedAtSof) {
   std::vector<VideoBeat> beats;
   test::append_frame(beats, a, rng, 0.1);
   const size_t switch_at = beats.size() / 2;
+  append_clear_blanking(beats, 0);
   test::append_frame(beats, b, rng, 0.1);
   Histogram hist;
   const Published pub =
@@ -223,6 +248,137 @@ TEST(Histogram, DoneIsAOneCyclePulseAndResetClears) {
   EXPECT_EQ(hist.results(), golden::histogram_ref(a));
   hist.reset();
   EXPECT_EQ(hist.results(), HistogramResults{});
+}
+
+// A bank that stops being the result bank is dirty on the publication edge and
+// clean again kClearCycles + 1 edges later (one bin per edge, from the next edge).
+TEST(Histogram, ClearSweepTiming) {
+  std::mt19937 rng(37);
+  const cv::Mat a = test::random_image(rng, 5, 4);
+  const cv::Mat b = test::random_image(rng, 5, 4);
+  std::vector<VideoBeat> beats;
+  test::append_gaps(beats, Histogram::kClearCycles + 10);  // the reset's mark is cleared
+  test::append_frame(beats, a, rng, 0.0);
+  append_clear_blanking(beats, 0);
+  test::append_frame(beats, b, rng, 0.0);
+  FrameCheck fc;
+  ThreshLut lut;
+  for (unsigned g = 0; g < 256; ++g) lut.write(static_cast<uint8_t>(g), threshold_lut(0)[g]);
+  Histogram hist;
+  std::vector<std::array<bool, Histogram::kBanks>> dirty;  // after each edge
+  std::vector<uint64_t> done_at;
+  const size_t total = beats.size() + Histogram::kClearCycles + 10;
+  for (size_t i = 0; i < total; ++i) {
+    const VideoBeat beat = i < beats.size() ? beats[i] : VideoBeat{};
+    const LutBeat lut_out = lut.m_lut();
+    const PixelBeat fc_out = fc.m_pix();
+    hist.clock(lut_out, false);
+    lut.clock(fc_out, beat.tvalid && beat.tuser);
+    fc.clock(beat, 5, 4);
+    dirty.push_back({hist.dirty(0), hist.dirty(1), hist.dirty(2)});
+    if (hist.done()) done_at.push_back(i);
+  }
+  ASSERT_EQ(done_at.size(), 2u);
+  EXPECT_EQ(hist.results(), golden::histogram_ref(b));
+  // Every bank clean before the first frame; after each publication exactly
+  // one bank (the old result bank) is dirty for kClearCycles + 1 edges.
+  for (const uint64_t p : done_at) {
+    EXPECT_EQ(dirty[p - 1], (std::array<bool, 3>{false, false, false}));
+    unsigned dirty_bank = Histogram::kBanks;
+    for (unsigned bank = 0; bank < Histogram::kBanks; ++bank) {
+      if (dirty[p][bank]) {
+        EXPECT_EQ(dirty_bank, Histogram::kBanks) << "two dirty banks";
+        dirty_bank = bank;
+      }
+    }
+    ASSERT_LT(dirty_bank, Histogram::kBanks);
+    for (uint64_t e = p; e <= p + Histogram::kClearCycles; ++e) {
+      EXPECT_TRUE(dirty[e][dirty_bank]) << "edge " << e - p << " after the publication";
+    }
+    EXPECT_FALSE(dirty[p + Histogram::kClearCycles + 1][dirty_bank]);
+  }
+}
+
+// Frames back to back with zero blanking: a frame whose SOF finds no clean
+// bank is not counted (counts() low at its SOF) and never published; every
+// counted frame is published exactly, in order. The bank freed by frame N's
+// publication is clean for frame N + 2 when frame N + 1 has at least
+// kClearCycles + 2 pixels (258: never a drop; 257: drops).
+TEST(Histogram, FramesWithoutACleanBankAreNotCounted) {
+  std::mt19937 rng(38);
+  const std::vector<std::pair<int, int>> sizes = {{1, 1},   {9, 7},   {16, 16},
+                                                  {257, 1}, {258, 1}, {20, 13}};
+  for (const auto& [w, h] : sizes) {
+    std::vector<cv::Mat> images;
+    std::vector<VideoBeat> beats;
+    test::append_gaps(beats, Histogram::kClearCycles + 2);
+    for (int f = 0; f < 30; ++f) {
+      images.push_back(test::random_image(rng, w, h));
+      test::append_frame(beats, images.back(), rng, f % 5 == 4 ? 0.5 : 0.0);
+    }
+    Histogram hist;
+    const Published pub = run_chain(hist, threshold_lut(0), beats, static_cast<uint16_t>(w),
+                                    static_cast<uint16_t>(h), [](size_t) { return false; });
+    ASSERT_EQ(pub.sof_counted.size(), images.size());
+    std::vector<HistogramResults> expected;
+    for (size_t f = 0; f < images.size(); ++f) {
+      if (pub.sof_counted[f]) expected.push_back(golden::histogram_ref(images[f]));
+    }
+    EXPECT_TRUE(pub.sof_counted[0]);
+    EXPECT_TRUE(pub.sof_counted[1]);  // the spare bank is clean
+    if (w * h >= Histogram::kClearCycles + 2) {
+      EXPECT_EQ(expected.size(), images.size()) << w << "x" << h << ": no frame may be dropped";
+    } else {
+      EXPECT_LT(expected.size(), images.size()) << w << "x" << h << ": frames must be dropped";
+    }
+    EXPECT_EQ(pub.results, expected) << w << "x" << h;
+  }
+}
+
+// keep low with the EOF (the pipeline drops the frame): no done, the bank is
+// cleared, the results stay those of the last kept frame.
+TEST(Histogram, DroppedEofIsNotPublished) {
+  std::mt19937 rng(39);
+  std::vector<cv::Mat> images;
+  std::vector<VideoBeat> beats;
+  for (int f = 0; f < 5; ++f) {
+    images.push_back(test::random_image(rng, 12, 6));
+    test::append_frame(beats, images.back(), rng, 0.2);
+    append_clear_blanking(beats, 0);
+  }
+  Histogram hist;
+  const Published pub = run_chain(
+      hist, threshold_lut(0), beats, 12, 6, [](size_t) { return false; },
+      [](size_t f) { return f != 1 && f != 2; });
+  ASSERT_EQ(pub.results.size(), 3u);
+  EXPECT_EQ(pub.results[0], golden::histogram_ref(images[0]));
+  EXPECT_EQ(pub.results[1], golden::histogram_ref(images[3]));
+  EXPECT_EQ(pub.results[2], golden::histogram_ref(images[4]));
+}
+
+// A reset in mid-frame: reads give 0 until the next publication, a frame may
+// start at once (a clean bank is free) and is exact.
+TEST(Histogram, ResetInMidFrameLosesNothingAfterIt) {
+  std::mt19937 rng(40);
+  const cv::Mat a = test::random_image(rng, 20, 20);
+  const cv::Mat b = test::random_image(rng, 20, 20);
+  std::vector<VideoBeat> first;
+  test::append_frame(first, a, rng, 0.0);
+  first.resize(first.size() / 2);
+  Histogram hist;
+  const auto table = threshold_lut(0);
+  run_chain(
+      hist, table, first, 20, 20, [](size_t) { return false; }, 0);
+  hist.reset();
+  EXPECT_EQ(hist.results(), HistogramResults{});
+  EXPECT_EQ(hist.read_bin(a.at<uint8_t>(0, 0)), 0u);
+  std::vector<VideoBeat> second;
+  test::append_frame(second, b, rng, 0.0);
+  const Published pub = run_chain(hist, table, second, 20, 20, [](size_t) { return false; });
+  ASSERT_EQ(pub.sof_counted.size(), 1u);
+  EXPECT_TRUE(pub.sof_counted[0]);
+  ASSERT_EQ(pub.results.size(), 1u);
+  EXPECT_EQ(pub.results[0], golden::histogram_ref(b));
 }
 
 }  // namespace

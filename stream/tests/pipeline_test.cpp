@@ -285,7 +285,10 @@ void check_malformed(bool with_early_sof) {
   if (with_early_sof) {
     bad.clear();
     test::append_frame(bad, test::blob_image(rng, w, h), rng, 0.0);
-    bad.resize(bad.size() / 2);  // the next frame's SOF cuts it short
+    // The next frame's SOF cuts it short, late enough (>= kClearCycles + 2
+    // beats after the last publication) for the histogram to have a clean
+    // bank: the aborted frame's bank and the old result bank are both dirty.
+    bad.resize(bad.size() - static_cast<size_t>(w));
     beats.insert(beats.end(), bad.begin(), bad.end());
     expected.early_sof = 1;
     add_good();
