@@ -50,7 +50,8 @@ module histogram #(
   localparam int unsigned Banks = 3;
   localparam logic [BinBits-1:0] MaxCount = BinBits'(1) << (2 * CoordBits);
 
-  typedef logic [1:0] bank_t;
+  localparam int unsigned BankBits = 2;
+  typedef logic [BankBits-1:0] bank_t;
 
   // Position, EOL and mask are not needed for a histogram.
   logic unused_lut;
@@ -99,9 +100,9 @@ module histogram #(
     free_ok   = 1'b0;
     free_bank = '0;
     for (int b = Banks - 1; b >= 0; b--) begin
-      if (!dirty[b] && bank_t'(b) != disp_q && bank_t'(b) != acc_q) begin
+      if (!dirty[b] && BankBits'(b) != disp_q && BankBits'(b) != acc_q) begin
         free_ok   = 1'b1;
-        free_bank = bank_t'(b);
+        free_bank = BankBits'(b);
       end
     end
   end
@@ -140,10 +141,10 @@ module histogram #(
     logic       rd_pix, rd_en, wr_acc, wr_en;
     logic [7:0] rd_addr, wr_addr, clr_ptr_q;
 
-    assign rd_pix  = pix_rd && acc_q == bank_t'(b);
-    assign rd_en   = rd_pix || (hist_rd_en_i && disp_q == bank_t'(b));
+    assign rd_pix  = pix_rd && acc_q == BankBits'(b);
+    assign rd_en   = rd_pix || (hist_rd_en_i && disp_q == BankBits'(b));
     assign rd_addr = rd_pix ? bin : hist_rd_bin_i;
-    assign wr_acc  = s1_accum_q && s1_bank_q == bank_t'(b);
+    assign wr_acc  = s1_accum_q && s1_bank_q == BankBits'(b);
     assign wr_en   = wr_acc || clr_busy_q[b];
     assign wr_addr = wr_acc ? s1_bin_q : clr_ptr_q;
     assign clr_done[b] = clr_busy_q[b] & (clr_ptr_q == 8'd255);

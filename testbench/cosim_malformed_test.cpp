@@ -271,7 +271,10 @@ void run_class(Malform m, uint64_t seed) {
       break;
     }
     case Malform::kEarlySof:
-      bad.resize(static_cast<size_t>(rng.uniform(1, total - 1)));
+      // Cut after at least kClearCycles + 2 beats, so that the histogram has
+      // cleared a bank for frame 3 (a shorter cut drops frame 3 as an overrun:
+      // docs/blocks/histogram.md).
+      bad.resize(static_cast<size_t>(rng.uniform(stream::Histogram::kClearCycles + 2, total - 1)));
       back_to_back = true;  // the next SOF arrives inside this frame
       e.delta.early_sof = 1;
       e.delta.frames_aborted = 1;

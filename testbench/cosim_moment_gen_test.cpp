@@ -32,6 +32,7 @@ using stream::test::LutFrame;
 struct Stim {
   LutBeat beat;
   bool reset_before = false;
+  bool eof_drop = false;  // eof_drop_i (the pipeline drops the frame at its EOF)
 };
 
 class MomentGenBench {
@@ -57,8 +58,9 @@ class MomentGenBench {
     d.s_lut_abort_i = in.pix.abort;
     d.s_lut_remap_i = in.remap;
     d.s_lut_mask_i = in.mask;
+    d.eof_drop_i = s.eof_drop;
     sim_.edge();
-    model_.clock(in);
+    model_.clock(in, s.eof_drop);
     if (sim_.ctx().gotError()) {
       sim_.fail("RTL assertion failed");
       return false;
@@ -152,6 +154,7 @@ class StimGen {
         pending_abort_ = false;
       }
       s.reset_before = i == reset_at;
+      s.eof_drop = s.beat.pix.eof && rng_.chance(0.1);
       out.push_back(s);
     }
     pending_abort_ = combine_abort_with_next_sof;

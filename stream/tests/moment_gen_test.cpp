@@ -308,6 +308,31 @@ TEST(MomentGen, TinyFramesBackToBackOverrunIsCounted) {
   for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(pulses[i].results, expected[i]) << i;
 }
 
+// eof_drop high with an EOF: no combine, no done, counted as an overrun; the
+// combine stays free, so the next frame (even right behind) is taken.
+TEST(MomentGen, DroppedEofIsCountedAndNotCombined) {
+  std::mt19937 rng(13);
+  const LutFrame a = test::random_frame(rng, 9, 4);
+  const LutFrame b = test::random_frame(rng, 5, 3);
+  const LutFrame c = test::random_frame(rng, 7, 6);
+  std::vector<LutBeat> beats;
+  test::append_frame(beats, a, rng, 0.1);
+  test::append_idle(beats, MomentGen::kCombineCycles);
+  test::append_frame(beats, b, rng, 0.0);
+  const size_t b_eof = beats.size() - 1;
+  test::append_frame(beats, c, rng, 0.0);  // zero blanking after the dropped EOF
+  MomentGen gen;
+  std::vector<DonePulse> pulses;
+  for (size_t i = 0; i < beats.size() + MomentGen::kCombineCycles + 4; ++i) {
+    gen.clock(i < beats.size() ? beats[i] : LutBeat{}, /*eof_drop=*/i == b_eof);
+    if (gen.done()) pulses.push_back({i, gen.results()});
+  }
+  EXPECT_EQ(gen.overrun_count(), 1u);
+  ASSERT_EQ(pulses.size(), 2u);
+  EXPECT_EQ(pulses[0].results, golden(a));
+  EXPECT_EQ(pulses[1].results, golden(c));
+}
+
 TEST(MomentGen, ResetMidFrameThenExactFrame) {
   std::mt19937 rng(12);
   const LutFrame a = test::random_frame(rng, 30, 20);
