@@ -178,6 +178,12 @@ int main(int argc, char** argv) {
                    "model (C++ cycle-level device) or rtl (Verilated RTL)")
       ->check(CLI::IsMember({"model", "rtl"}))
       ->capture_default_str();
+  prof_cmd
+      ->add_option("--config", prof.config,
+                   "Device configuration: full (every block) or tape (no class_moments; the "
+                   "device that fits the iCE40 HX8K)")
+      ->check(CLI::IsMember({"full", "tape"}))
+      ->capture_default_str();
   prof_cmd->add_option("--frames", prof.frames_dir,
                        "Folder of PNG frames (default: render the demo corridor)");
   prof_cmd->add_option("--scene", prof.scene_file,

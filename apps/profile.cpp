@@ -442,10 +442,12 @@ void write_summary_header(host::CsvWriter& w) {
          "vertical_blanking_cycles",
          "host_driver_us_median",
          "host_pose_us_median",
-         "violations"});
+         "violations",
+         "config"});
 }
 
-void write_summary_row(host::CsvWriter& w, const Summary& m, const std::string& backend) {
+void write_summary_row(host::CsvWriter& w, const Summary& m, const std::string& backend,
+                       const std::string& config) {
   const auto& v = m.frames;
   w.text(m.name).text(backend).integer(m.s.width).integer(m.s.height);
   w.text(to_string(m.s.blanking));
@@ -468,13 +470,13 @@ void write_summary_row(host::CsvWriter& w, const Summary& m, const std::string& 
   w.integer(frame_feed(m.s).blanking_cycles);
   w.fixed(median_of(v, [](const auto& f) { return f.host_driver_us; }), 1);
   w.fixed(median_of(v, [](const auto& f) { return f.host_pose_us; }), 1);
-  w.integer(m.problems.size()).end_row();
+  w.integer(m.problems.size()).text(config).end_row();
 }
 
 void print_summary(const Summary& m, const std::string& backend) {
   const auto& v = m.frames;
-  fmt::print("{} ({} backend): {}x{}, blanking {}", m.name.c_str(), backend.c_str(), m.s.width,
-             m.s.height, std::string(to_string(m.s.blanking)).c_str());
+  fmt::print("{} ({}): {}x{}, blanking {}", m.name.c_str(), backend.c_str(), m.s.width, m.s.height,
+             std::string(to_string(m.s.blanking)).c_str());
   if (m.s.blanking == Blanking::random) fmt::print(" (gap P {:.2f})", m.s.gap_probability);
   fmt::print(", back-pressure {:.2f}, {} tape{}, {} frames\n", m.s.backpressure, m.s.tapes,
              m.s.tapes == 1 ? "" : "s", v.size());
@@ -564,6 +566,15 @@ int run_profile(const ProfileOptions& o) {
   if (o.backend != "model" && o.backend != "rtl") {
     throw std::runtime_error("--backend must be model or rtl (the fast path has no cycles)");
   }
+  const regs::Config* found = nullptr;
+  for (const regs::Config& c : regs::kConfigs) {
+    if (o.config == c.name) found = &c;
+  }
+  if (found == nullptr) {
+    throw std::runtime_error("--config must name a device configuration (tape or full), not '" +
+                             o.config + "'");
+  }
+  const regs::Config device_config = *found;
   ProfileScenario s;
   s.blanking = parse_blanking(o.blanking);
   s.gap_probability = o.gap_probability;
@@ -632,6 +643,7 @@ int run_profile(const ProfileOptions& o) {
   const auto run_scenario = [&](const std::string& name, const ProfileScenario& sc, size_t n) {
     host::SimBusOptions bus_opt;
     bus_opt.seed = sc.seed;
+    bus_opt.device_config = device_config;
     bus_opt.run_tready_low_probability = sc.backpressure;
     std::unique_ptr<host::SimBus> bus = make_profile_bus(o.backend, bus_opt);
     Summary m{name, sc, profile_frames(*bus, frame_at, n, sc, camera), {}};
@@ -651,7 +663,7 @@ int run_profile(const ProfileOptions& o) {
     }
   }
 
-  print_summary(main_run, o.backend);
+  print_summary(main_run, o.backend + " backend, " + o.config + " device");
   size_t violations = main_run.problems.size();
   if (!sweep.empty()) {
     fmt::print(
@@ -683,8 +695,8 @@ int run_profile(const ProfileOptions& o) {
     AtomicFile summary(folder.path("profile_summary.csv"));
     host::CsvWriter summary_csv(summary.stream());
     write_summary_header(summary_csv);
-    write_summary_row(summary_csv, main_run, o.backend);
-    for (const Summary& m : sweep) write_summary_row(summary_csv, m, o.backend);
+    write_summary_row(summary_csv, main_run, o.backend, o.config);
+    for (const Summary& m : sweep) write_summary_row(summary_csv, m, o.backend, o.config);
 
     const auto& v = main_run.frames;
     const std::vector<double> x = frame_axis(v.size());

@@ -1,5 +1,7 @@
 // The Verilated RTL top (rtl_model/ceilnav_top.sv) as a SimDevice, so the one
-// Driver runs on it through SimBus exactly as on the C++ model (ModelBus).
+// Driver runs on it through SimBus exactly as on the C++ model (ModelBus): the
+// full configuration (Vceilnav_top) or the tape one (Vceilnav_top_tape, built
+// with the configuration's parameters), as SimBusOptions::device_config says.
 #include <cstdint>
 #include <memory>
 
@@ -10,22 +12,29 @@
 #pragma GCC diagnostic ignored "-Wpedantic"
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 #include "Vceilnav_top.h"
+#include "Vceilnav_top_tape.h"
 #include "verilated.h"
 #pragma GCC diagnostic pop
 
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
 #include "apps/rtl_backend.hpp"
+#include "ceilnav/regs.hpp"
 #include "stream/run_scanner.hpp"
 
 namespace ceilnav::app {
 
 namespace {
 
+template <class Top>
 class RtlDevice : public host::SimDevice {
  public:
   explicit RtlDevice(uint64_t seed) : ctx_(std::make_unique<VerilatedContext>()) {
     ctx_->randReset(2);  // registers without reset start random, as in silicon
     ctx_->randSeed(static_cast<int>(seed & 0x7FFFFFFF));
-    top_ = std::make_unique<Vceilnav_top>(ctx_.get(), "ceilnav_top");
+    top_ = std::make_unique<Top>(ctx_.get(), "ceilnav_top");
     top_->clk_i = 0;
     reset();
   }
@@ -92,14 +101,23 @@ class RtlDevice : public host::SimDevice {
 
  private:
   std::unique_ptr<VerilatedContext> ctx_;
-  std::unique_ptr<Vceilnav_top> top_;
+  std::unique_ptr<Top> top_;
 };
 
 }  // namespace
 
 std::function<std::unique_ptr<host::Bus>(const host::SimBusOptions&)> rtl_bus_factory() {
   return [](const host::SimBusOptions& options) -> std::unique_ptr<host::Bus> {
-    return std::make_unique<host::SimBus>(std::make_unique<RtlDevice>(options.seed), options);
+    const regs::Config& c = options.device_config;
+    if (c.has_class_moments == regs::kConfigFull.has_class_moments) {
+      return std::make_unique<host::SimBus>(std::make_unique<RtlDevice<Vceilnav_top>>(options.seed),
+                                            options);
+    }
+    if (c.has_class_moments == regs::kConfigTape.has_class_moments) {
+      return std::make_unique<host::SimBus>(
+          std::make_unique<RtlDevice<Vceilnav_top_tape>>(options.seed), options);
+    }
+    throw std::runtime_error(std::string("no Verilated top for configuration ") + c.name);
   };
 }
 

@@ -22,6 +22,7 @@ uint32_t Driver::identify() {
 }
 
 void Driver::configure(const stream::PipelineConfig& cfg) {
+  has_class_moments_ = r::features::kClassMoments.get(bus_.read32(r::features::kOffset)) != 0;
   bus_.write32(r::width::kOffset, r::width::kValue.put(cfg.width));
   bus_.write32(r::height::kOffset, r::height::kValue.put(cfg.height));
   bus_.write32(r::background_level::kOffset, r::background_level::kValue.put(cfg.background_level));
@@ -29,10 +30,12 @@ void Driver::configure(const stream::PipelineConfig& cfg) {
   bus_.write32(r::max_runs_per_row::kOffset, r::max_runs_per_row::kValue.put(cfg.max_runs_per_row));
   bus_.write32(r::hist_source::kOffset,
                r::hist_source::kRemap.put(cfg.hist_source_remap ? 1u : 0u));
-  bus_.write32(r::class_win_x::kOffset, r::class_win_x::kX0.put(cfg.class_window.x0) |
-                                            r::class_win_x::kX1.put(cfg.class_window.x1));
-  bus_.write32(r::class_win_y::kOffset, r::class_win_y::kY0.put(cfg.class_window.y0) |
-                                            r::class_win_y::kY1.put(cfg.class_window.y1));
+  if (has_class_moments_) {
+    bus_.write32(r::class_win_x::kOffset, r::class_win_x::kX0.put(cfg.class_window.x0) |
+                                              r::class_win_x::kX1.put(cfg.class_window.x1));
+    bus_.write32(r::class_win_y::kOffset, r::class_win_y::kY0.put(cfg.class_window.y0) |
+                                              r::class_win_y::kY1.put(cfg.class_window.y1));
+  }
   // All 256 entries: after a bank swap the shadow bank holds the older table.
   bus_.write32(r::lut_index::kOffset, 0);
   for (stream::LutEntry e : cfg.lut) {
@@ -65,7 +68,7 @@ stream::FrameResults Driver::read_results() {
                         uint64_t{bus_.read32(r::mom_mask_hi::kArray.at(i))} << 32;
   }
   // CLASS_MOM_*[6 (c - 1) + k]: pixel class c = 1..3, moment k.
-  for (uint32_t i = 0; i < r::class_mom_lo::kCount; ++i) {
+  for (uint32_t i = 0; has_class_moments_ && i < r::class_mom_lo::kCount; ++i) {
     f.class_moments.cls[i / stream::kMomentCount][i % stream::kMomentCount] =
         bus_.read32(r::class_mom_lo::kArray.at(i)) |
         uint64_t{bus_.read32(r::class_mom_hi::kArray.at(i))} << 32;

@@ -44,12 +44,16 @@ class Driver {
   // device of the major version the driver knows. Returns the VERSION word.
   uint32_t identify();
 
-  // Writes the whole configuration (geometry, all 256 LUT entries with their
-  // pixel classes, scanner settings, histogram source, class window), clears INTR_STATE, enables
-  // the FRAME_DONE interrupt and the video gate. Takes effect at the next SOF; call it between
-  // frames (after read_frame, before the next frame starts), or the LUT may change across two
-  // frames.
+  // Reads FEATURES (the device configuration), then writes the whole configuration (geometry,
+  // all 256 LUT entries with their pixel classes, scanner settings, histogram source, and the
+  // class window if the device has class_moments), clears INTR_STATE, enables the FRAME_DONE
+  // interrupt and the video gate. Takes effect at the next SOF; call it between frames (after
+  // read_frame, before the next frame starts), or the LUT may change across two frames.
   void configure(const stream::PipelineConfig& cfg);
+
+  // FEATURES.CLASS_MOMENTS as read by the last configure(): without class_moments (the tape
+  // device) the readout's class_moments stay 0 and their registers are not touched.
+  bool has_class_moments() const { return has_class_moments_; }
 
   // Waits for FRAME_DONE, acknowledges it, reads the result registers and
   // the frame's runs. Throws std::runtime_error on a timeout.
@@ -63,6 +67,7 @@ class Driver {
   Bus& bus_;
   DriverOptions options_;
   std::deque<stream::RunBeat> stream_backlog_;  // received beats not yet consumed
+  bool has_class_moments_ = true;
 };
 
 }  // namespace ceilnav::host

@@ -8,7 +8,7 @@ namespace {
 
 class ModelDevice : public SimDevice {
  public:
-  explicit ModelDevice(uint32_t run_fifo_depth) : top_(run_fifo_depth) {}
+  ModelDevice(uint32_t run_fifo_depth, const regs::Config& config) : top_(run_fifo_depth, config) {}
   void reset() override { top_.reset(); }
   SimOutputs outputs() const override {
     SimOutputs o;
@@ -30,7 +30,7 @@ class ModelDevice : public SimDevice {
 }  // namespace
 
 ModelBus::ModelBus(const SimBusOptions& options, uint32_t run_fifo_depth)
-    : SimBus(std::make_unique<ModelDevice>(run_fifo_depth), options),
+    : SimBus(std::make_unique<ModelDevice>(run_fifo_depth, options.device_config), options),
       top_(&static_cast<ModelDevice&>(device()).top()) {}
 
 }  // namespace ceilnav::host

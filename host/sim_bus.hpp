@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "ceilnav/regs.hpp"
 #include "host/bus.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
@@ -54,6 +55,9 @@ class SimObserver {
 
 struct SimBusOptions {
   uint64_t seed = 1;
+  // The device's build-time configuration (regs::kConfigTape, regs::kConfigFull):
+  // which optional blocks the simulated device has.
+  regs::Config device_config = regs::kConfigFull;
   stream::AxiLiteMaster::Timing axi_timing{};  // random valid delays / ready stalls
   double run_tready_low_probability = 0.0;     // back-pressure on m_axis_runs
   uint64_t transaction_timeout_cycles = 100000;

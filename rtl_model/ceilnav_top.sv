@@ -255,6 +255,7 @@ module ceilnav_top #(
     hw2reg.hist_data.count        = hist_rd_data;
     hw2reg.run_fifo_level.value   = 16'(fifo_occupancy) + 16'(pipe_tvalid);
     hw2reg.run_fifo_depth.value   = 16'(RunFifoDepth);
+    hw2reg.features.class_moments = HasClassMoments;
     // The run window: the head entry of the run FIFO (pack_run_beat layout; the
     // run scanner drives tdata and tlast to 0 without tvalid).
     hw2reg.run_word0.valid        = pipe_tvalid;

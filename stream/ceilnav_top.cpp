@@ -113,6 +113,7 @@ void CeilnavTop::fill_read_inputs() {
               gate_open_q_ ? 1u : 0u, lut_pending_q_ ? 1u : 0u};
   h.run_fifo_level.value = pipeline_.run_fifo_occupancy() + (head.tvalid ? 1u : 0u);
   h.run_fifo_depth.value = run_fifo_depth_;
+  h.features.class_moments = regs_.config().has_class_moments;
   // The run window: the head entry of the run FIFO, 0 if none.
   const RunRecord run = head.tvalid ? head.tdata : RunRecord{};
   h.run_word0 = {head.tvalid ? 1u : 0u, head.tvalid && head.tlast ? 1u : 0u, run.row};

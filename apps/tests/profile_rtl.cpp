@@ -1,13 +1,14 @@
 // `ceilnav profile`: the C++ cycle model and the Verilated RTL give the same
 // cycle figures, frame by frame, for scenarios with every blanking pattern,
-// run-stream back-pressure and several tapes; and both meet II = 1 with no
-// bubbles.
+// run-stream back-pressure and several tapes, in both device configurations;
+// and both meet II = 1 with no bubbles.
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
 #include "apps/profile.hpp"
+#include "ceilnav/regs.hpp"
 
 namespace ceilnav::app {
 namespace {
@@ -19,12 +20,15 @@ struct Case {
   double backpressure;
   int tapes;
   size_t frames;
+  regs::Config config = regs::kConfigFull;
 };
 
 std::vector<FrameProfile> run(const std::string& backend, const ProfileScenario& s,
-                              const host::CameraConfig& cam, const std::vector<cv::Mat>& frames) {
+                              const host::CameraConfig& cam, const std::vector<cv::Mat>& frames,
+                              const regs::Config& config) {
   host::SimBusOptions opt;
   opt.seed = s.seed;
+  opt.device_config = config;
   opt.run_tready_low_probability = s.backpressure;
   const auto bus = make_profile_bus(backend, opt);
   return profile_frames(
@@ -37,6 +41,7 @@ TEST(ProfileRtl, ModelAndRtlReportTheSameCycleFigures) {
       {"random+bp0.5+2 tapes", 96, 64, Blanking::random, 0.5, 2, 3},
       {"vga+bp0.25+3 tapes", 128, 96, Blanking::vga, 0.25, 3, 2},
       {"random+bp0.9", 160, 120, Blanking::random, 0.9, 2, 2},
+      {"tape device, random+bp0.5", 96, 64, Blanking::random, 0.5, 2, 2, regs::kConfigTape},
   };
   uint64_t runs_total = 0, stalls_total = 0;
   for (const Case& k : cases) {
@@ -53,8 +58,8 @@ TEST(ProfileRtl, ModelAndRtlReportTheSameCycleFigures) {
     for (size_t i = 0; i < k.frames; ++i) {
       frames.push_back(render_profile_frame(s, cam, i, k.frames));
     }
-    const std::vector<FrameProfile> m = run("model", s, cam, frames);
-    const std::vector<FrameProfile> r = run("rtl", s, cam, frames);
+    const std::vector<FrameProfile> m = run("model", s, cam, frames, k.config);
+    const std::vector<FrameProfile> r = run("rtl", s, cam, frames, k.config);
     ASSERT_EQ(m.size(), k.frames);
     ASSERT_EQ(r.size(), k.frames);
     for (size_t i = 0; i < k.frames; ++i) {

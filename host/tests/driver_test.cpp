@@ -174,6 +174,43 @@ TEST(Driver, ModelBusEqualsProcessFrameRandomFramesRegisterSink) {
   EXPECT_GT(check_frames({RunSink::kRegisters, 0.3, 0.2, 0.0}, frames, configs, 4), 100u);
 }
 
+// The tape device (no class_moments): the driver reads FEATURES, never
+// touches CLASS_WIN_* / CLASS_MOM_* (they answer SLVERR there, which would
+// throw), and reads everything else exactly; the class moments stay 0.
+TEST(Driver, TapeDeviceSkipsTheAbsentBlock) {
+  std::mt19937 rng(103);
+  std::vector<stream::PipelineConfig> configs;
+  const std::vector<cv::Mat> frames = random_frames(rng, 2, 48, 32, configs);
+  SimBusOptions opt;
+  opt.device_config = regs::kConfigTape;
+  ModelBus bus(opt);
+  Driver driver(bus);
+  EXPECT_EQ(driver.identify(), version_word());
+  EXPECT_THROW(bus.read32(regs::class_mom_lo::kArray.at(0)), BusError);
+  stream::Pipeline ref(regs::kRunFifoDepth, /*has_class_moments=*/false);
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const cv::Mat& img = frames[k];
+    driver.configure(configs[k]);
+    EXPECT_FALSE(driver.has_class_moments());
+    ref.set_config(configs[k]);
+    std::vector<stream::RunRecord> ref_runs;
+    const stream::FrameResults expected =
+        ref.process_frame(img.ptr<uint8_t>(0), img.cols, img.rows, img.step[0], &ref_runs);
+    bus.queue_frame(img.ptr<uint8_t>(0), img.cols, img.rows, img.step[0], {0.0, 64});
+    const FrameReadout got = driver.read_frame();
+    EXPECT_EQ(got.results.histogram, expected.histogram) << k;
+    EXPECT_EQ(got.results.moments, expected.moments) << k;
+    EXPECT_EQ(got.results.class_moments, stream::ClassMomentResults{}) << k;
+    EXPECT_EQ(got.results.run_stats, expected.run_stats) << k;
+    EXPECT_EQ(got.runs, ref_runs) << k;
+  }
+  // The full device reports its class_moments.
+  ModelBus full;
+  Driver full_driver(full);
+  full_driver.configure(configs[0]);
+  EXPECT_TRUE(full_driver.has_class_moments());
+}
+
 TEST(Driver, ModelBusEqualsProcessFrameRenderedFrames) {
   CameraConfig cam;
   cam.image_width = 160;
