@@ -16,7 +16,7 @@
 
 namespace ceilnav::app {
 
-// a in (-pi, pi].
+// a wrapped into [-pi, pi] (std::remainder by 2 pi).
 double wrap_angle(double a);
 
 // Root mean square and greatest magnitude of the errors added.
