@@ -5,31 +5,21 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iostream>
 #include <map>
-#include <numbers>
-#include <random>
-#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "apps/atomic_file.hpp"
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "apps/overlay.hpp"
-#include "apps/progress.hpp"
 #include "apps/results_csv.hpp"
-#include "apps/rtl_backend.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/camera_config_io.hpp"
-#include "host/csv.hpp"
 #include "host/flow_height.hpp"
-#include "host/frame_io.hpp"
 #include "host/navigator.hpp"
 
 namespace ceilnav::app {

@@ -1,3 +1,5 @@
+// `ceilnav pattern-accuracy`: the study's rendered frames measured through the
+// device and the host, and the command that reports them.
 #include "apps/pattern_accuracy.hpp"
 
 #include <cmath>

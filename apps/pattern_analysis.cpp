@@ -1,3 +1,4 @@
+// One pattern frame through the device and the host maths.
 #include "apps/pattern_analysis.hpp"
 
 #include <stdexcept>

@@ -1,19 +1,17 @@
+// `ceilnav pattern`: the built-in station scene (pan, find the code, centre,
+// verify) or recorded frames, with the fix CSV and the overlay PNG.
 #include "apps/pattern_commands.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
-#include <map>
 #include <numbers>
-#include <random>
 #include <sstream>
 #include <stdexcept>
 
-#include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
