@@ -4,12 +4,15 @@
 #pragma once
 
 #include <cstdint>
+#include <numbers>
 #include <string>
 
 #include "host/camera_config.hpp"
 #include "host/device.hpp"
 
 namespace ceilnav::app {
+
+inline constexpr double kDeg = std::numbers::pi / 180.0;  // radians per degree
 
 struct DemoOptions {
   std::string out_dir = "ceilnav-demo";

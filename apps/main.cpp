@@ -54,13 +54,11 @@ CLI::Validator unsigned_integer() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  using namespace ceilnav::app;
-  CLI::App app{"ceilnav: a ceiling-vision navigation device, modelled bit for bit"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", ceilnav::version_string());
+namespace ceilnav::app {
+namespace {
 
-  DemoOptions demo;
+// `ceilnav demo` and its options, parsed into `demo`.
+CLI::App* add_demo_command(CLI::App& app, DemoOptions& demo) {
   auto* demo_cmd = app.add_subcommand(
       "demo",
       "Render a drive down a taped corridor, run every frame through the device model "
@@ -75,8 +73,11 @@ int main(int argc, char** argv) {
                    "registers) or rtl (Verilated RTL through its registers)")
       ->check(CLI::IsMember({"fast", "model", "rtl"}))
       ->capture_default_str();
+  return demo_cmd;
+}
 
-  RunOptions run;
+// `ceilnav run` and its options, parsed into `run`.
+CLI::App* add_run_command(CLI::App& app, RunOptions& run) {
   auto* run_cmd = app.add_subcommand(
       "run", "Process every PNG of a folder (name order) and write one CSV row per frame");
   run_cmd->add_option("--frames", run.frames_dir, "Folder of PNG frames")->required();
@@ -100,8 +101,11 @@ int main(int argc, char** argv) {
       ->check(finite_in(0.0, 0.99));
   run_cmd->add_option("--seed", run.seed, "model/rtl: seed of the gap/back-pressure pattern")
       ->check(unsigned_integer());
+  return run_cmd;
+}
 
-  RenderOptions render;
+// `ceilnav render` and its options, parsed into `render`.
+CLI::App* add_render_command(CLI::App& app, RenderOptions& render) {
   auto* render_cmd = app.add_subcommand(
       "render", "Render frames with known pose: PNGs, truth.csv and scene.yaml into a folder");
   render_cmd->add_option("--out", render.out_dir, "Output folder (created)")->required();
@@ -124,8 +128,11 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--width", render.width, "Image width")->check(CLI::Range(16, 2048));
   render_cmd->add_option("--height", render.height, "Image height")->check(CLI::Range(16, 2048));
   render_cmd->add_flag("!--no-distortion", render.distortion, "Render without lens distortion");
+  return render_cmd;
+}
 
-  AccuracyOptions acc;
+// `ceilnav accuracy` and its options, parsed into `acc`.
+CLI::App* add_accuracy_command(CLI::App& app, AccuracyOptions& acc) {
   auto* acc_cmd = app.add_subcommand(
       "accuracy", "Accuracy benchmark: random poses rendered and estimated, RMS errors vs truth");
   acc_cmd->add_option("--frames", acc.frames, "Number of random frames")
@@ -166,8 +173,11 @@ int main(int argc, char** argv) {
   acc_cmd->add_option("--csv", acc.csv, "Per-frame errors to this CSV");
   acc_cmd->add_flag("--require", acc.require,
                     "Exit 1 unless yaw RMS <= 0.02 deg, offset RMS <= 1 mm and every frame ok");
+  return acc_cmd;
+}
 
-  ProfileOptions prof;
+// `ceilnav profile` and its options, parsed into `prof`.
+CLI::App* add_profile_command(CLI::App& app, ProfileOptions& prof) {
   auto* prof_cmd = app.add_subcommand(
       "profile",
       "Stream frames cycle by cycle through the device model or RTL and report, per frame and "
@@ -221,8 +231,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   prof_cmd->add_option("--sweep-frames", prof.sweep_frames, "Frames per sweep point (0: no sweep)")
       ->capture_default_str();
+  return prof_cmd;
+}
 
-  PatternOptions pat;
+// `ceilnav pattern` and its options, parsed into `pat`.
+CLI::App* add_pattern_command(CLI::App& app, PatternOptions& pat) {
   auto* pat_cmd = app.add_subcommand(
       "pattern",
       "Seed 003's standard pattern: a robot arrives near a station, pans its camera until it "
@@ -245,8 +258,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"fast", "model", "rtl"}))
       ->capture_default_str();
   pat_cmd->add_flag("--quiet", pat.quiet, "No per-frame lines");
+  return pat_cmd;
+}
 
-  PatternAccuracyOptions pacc;
+// `ceilnav pattern-accuracy` and its options, parsed into `pacc`.
+CLI::App* add_pattern_accuracy_command(CLI::App& app, PatternAccuracyOptions& pacc) {
   auto* pacc_cmd = app.add_subcommand(
       "pattern-accuracy",
       "Error study of the pattern pose on rendered frames (seed 003 Tables I and II): theta "
@@ -294,6 +310,32 @@ int main(int argc, char** argv) {
   pacc_cmd->add_flag("--require", pacc.require,
                      "Exit 1 unless D error <= 0.3 %, theta error <= 0.3 deg (theta >= 15) "
                      "for the conic method and every visible code is read, none wrongly");
+  return pacc_cmd;
+}
+
+}  // namespace
+}  // namespace ceilnav::app
+
+int main(int argc, char** argv) {
+  using namespace ceilnav::app;
+  CLI::App app{"ceilnav: a ceiling-vision navigation device, modelled bit for bit"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", ceilnav::version_string());
+
+  DemoOptions demo;
+  RunOptions run;
+  RenderOptions render;
+  AccuracyOptions acc;
+  ProfileOptions prof;
+  PatternOptions pat;
+  PatternAccuracyOptions pacc;
+  CLI::App* demo_cmd = add_demo_command(app, demo);
+  CLI::App* run_cmd = add_run_command(app, run);
+  CLI::App* render_cmd = add_render_command(app, render);
+  CLI::App* acc_cmd = add_accuracy_command(app, acc);
+  CLI::App* prof_cmd = add_profile_command(app, prof);
+  CLI::App* pat_cmd = add_pattern_command(app, pat);
+  CLI::App* pacc_cmd = add_pattern_accuracy_command(app, pacc);
 
   CLI11_PARSE(app, argc, argv);
   try {

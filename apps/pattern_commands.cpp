@@ -1,26 +1,24 @@
+// `ceilnav pattern`: the built-in station scene (pan, find the code, centre,
+// verify) or recorded frames, with the fix CSV and the overlay PNG.
 #include "apps/pattern_commands.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
-#include <map>
 #include <numbers>
-#include <random>
 #include <sstream>
 #include <stdexcept>
 
-#include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "apps/atomic_file.hpp"
 #include "apps/commands.hpp"
-#include "apps/plot.hpp"
+#include "apps/pattern_analysis.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_config_io.hpp"
@@ -38,45 +36,6 @@ namespace gp = golden::pattern;
 namespace hp = host::pattern;
 
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-// What the device and the host make of one frame.
-struct Analysis : hp::PatternAnalysis {
-  hp::FrameMoments moments{};
-  std::vector<stream::RunRecord> runs;
-};
-
-// The frame streams through the device (class LUT, run mask of bars and
-// disc, whole-frame class window); the host works on its class moments and
-// run records (host::pattern::analyse_pattern).
-Analysis analyse(host::Device& device, const cv::Mat& grey, const gp::Radiometry& radiometry,
-                 const host::CameraModel& model, const hp::PoseOptions& pose_options) {
-  Analysis a;
-  uint64_t cycles = 0;
-  const stream::FrameResults res =
-      device.process(grey, gp::device_config(grey.cols, grey.rows, radiometry), a.runs, cycles);
-  if (!res.valid) throw std::runtime_error("pattern: the device rejected the frame");
-  a.moments = hp::device_moments(res.class_moments);
-  hp::BarcodeOptions bo;
-  bo.bar_contrast =
-      radiometry.level(gp::PixelClass::background) - radiometry.level(gp::PixelClass::bar);
-  bo.radius_m = pose_options.radius_m;
-  bo.min_bar_run_weight = gp::bar_run_min_weight(radiometry);
-  static_cast<hp::PatternAnalysis&>(a) = hp::analyse_pattern(
-      a.runs, a.moments, model, grey.cols, grey.rows, pose_options, bo,
-      gp::disc_coverage_model(radiometry, pose_options.noise_grey, pose_options.psf_sigma_px,
-                              pose_options.blur_on_pixels));
-  return a;
-}
-
-hp::PoseOptions pose_options_for(const gp::PatternGeometry& g) {
-  hp::PoseOptions o;
-  o.radius_m = g.radius_m;
-  o.thickness_m = g.thickness_m;
-  o.rim_m = g.rim_m;
-  return o;
-}
 
 void write_png_file(const fs::path& path, const cv::Mat& image) {
   std::vector<unsigned char> bytes;
@@ -109,7 +68,7 @@ void draw_ellipse(cv::Mat& bgr, const hp::Ellipse& e, const host::CameraModel& m
   if (pts.size() > 2) cv::polylines(bgr, pts, true, colour, 1, cv::LINE_AA, 4);
 }
 
-cv::Mat overlay(const cv::Mat& grey, const Analysis& a, const host::CameraModel& model,
+cv::Mat overlay(const cv::Mat& grey, const PatternFrameAnalysis& a, const host::CameraModel& model,
                 const std::string& text) {
   cv::Mat bgr;
   cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
@@ -140,261 +99,6 @@ std::string fixed_text(double v, int digits) {
 
 }  // namespace
 
-// ---------------------------------------------------------------- accuracy
-
-namespace {
-
-// One frame of the pattern-accuracy study.
-struct Row {
-  double d, theta, beta;
-  bool seed_set;     // beta = +-90 deg (the seed's experiments)
-  double err[4][2];  // method (projection, moment, conic) x (D %, theta deg)
-  bool ok[4];
-  bool beta_ok[4];
-  bool code_visible;
-  double bar_px;
-  int identity, read;
-  std::string code_status;
-};
-
-// The study's per-frame CSV: one row per rendered frame, the errors of each
-// method (empty where it found no pose) and whether beta came out right.
-void write_accuracy_csv(const fs::path& path, const std::vector<Row>& rows) {
-  AtomicFile f(path);
-  host::CsvWriter w(f.stream());
-  w.row({"d_m",
-         "theta_deg",
-         "beta_deg",
-         "seed_set",
-         "identity",
-         "read",
-         "code_status",
-         "code_in_view",
-         "min_bar_px",
-         "proj_d_err_pct",
-         "proj_theta_err_deg",
-         "moment_d_err_pct",
-         "moment_theta_err_deg",
-         "conic_d_err_pct",
-         "conic_theta_err_deg",
-         "bars_d_err_pct",
-         "bars_theta_err_deg",
-         "moment_beta_ok",
-         "conic_beta_ok",
-         "bars_beta_ok"});
-  for (const Row& r : rows) {
-    w.general(r.d, 6).general(r.theta, 6).fixed(r.beta, 3).integer(r.seed_set);
-    w.integer(r.identity).integer(r.read).text(r.code_status).integer(r.code_visible);
-    w.fixed(r.bar_px, 2);
-    for (int m = 0; m < 4; ++m) {
-      if (r.ok[m]) {
-        w.fixed(r.err[m][0], 4).fixed(r.err[m][1], 4);
-      } else {
-        w.empty().empty();
-      }
-    }
-    w.integer(r.beta_ok[1]).integer(r.beta_ok[2]).integer(r.beta_ok[3]).end_row();
-  }
-  f.commit();
-}
-
-}  // namespace
-
-int run_pattern_accuracy(const PatternAccuracyOptions& o) {
-  if (!o.csv.empty()) check_writable(o.csv);
-  if (!o.plot.empty()) check_writable(o.plot);
-  const host::CameraConfig camera = scaled_camera(o.width, o.height, o.distortion);
-  const host::CameraModel model(camera);
-  const gp::PatternGeometry geometry;
-  const gp::Radiometry radiometry;
-  host::Device device(device_options(o.backend));
-  std::mt19937_64 rng(o.seed);
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
-  const std::vector<double> distances{1.0, 1.5, 2.0, 3.0, 4.0, 5.0};
-  std::vector<double> thetas;
-  for (int k = 0; k <= 10; ++k) thetas.push_back(7.5 * k);  // the seed's Table I
-
-  std::vector<Row> rows;
-  int frame = 0;
-  uint64_t frame_seed = 0;
-  for (double d : distances) {
-    for (double th : thetas) {
-      for (int b = 0; b <= o.betas; ++b) {
-        Row r{};
-        r.d = d;
-        r.theta = th;
-        r.seed_set = b == 0;
-        r.beta = b == 0 ? ((frame / 3) % 2 == 0 ? 90.0 : -90.0) : 360.0 * u01(rng) - 180.0;
-        r.identity = static_cast<int>(rng() % gp::kIdentityCount);
-        const gp::PatternView v = gp::spherical_view(d, th * kDeg, r.beta * kDeg);
-        gp::PatternRenderParams p;
-        p.noise_sigma_grey = o.noise_sigma;
-        p.blur_sigma_px = o.blur_sigma;
-        p.noise_seed = o.seed * 1000003U + frame_seed++;
-        p.supersample = o.supersample;
-        const cv::Mat grey = gp::render_pattern(camera, geometry, radiometry, r.identity, v, p);
-        const gp::PatternTruth t = gp::pattern_truth(camera, geometry, r.identity, v);
-        hp::PoseOptions po = pose_options_for(geometry);
-        po.up_cam = v.rotation.col(1);  // the mount's known tilt (docs/pattern.md)
-        // The camera's blur and noise (calibrated, not per frame).
-        po.psf_sigma_px = o.calib_blur_sigma >= 0.0 ? o.calib_blur_sigma : o.blur_sigma;
-        po.noise_grey = o.calib_noise_sigma >= 0.0 ? o.calib_noise_sigma : o.noise_sigma;
-        const Analysis a = analyse(device, grey, radiometry, model, po);
-        const hp::PatternPose* poses[4] = {&a.projection, &a.moment, &a.conic, &a.conic_bars};
-        for (int m = 0; m < 4; ++m) {
-          const hp::PatternPose& q = *poses[m];
-          r.ok[m] =
-              (q.status == hp::PatternStatus::ok || q.status == hp::PatternStatus::ambiguous) &&
-              t.disc_in_view;
-          r.err[m][0] = 100.0 * (q.d_m - d) / d;
-          r.err[m][1] = q.theta_rad / kDeg - th;
-          r.beta_ok[m] =
-              q.beta_resolved && std::abs(std::remainder(q.beta_rad / kDeg - r.beta, 360.0)) < 5.0;
-        }
-        r.code_visible = t.code_in_view;
-        r.bar_px = t.min_bar_width_px;
-        r.read = a.code.identity;
-        r.code_status = std::string(hp::to_string(a.code.status));
-        rows.push_back(r);
-        ++frame;
-      }
-    }
-  }
-
-  const char* names[4] = {"projection", "moment", "conic", "conic+bars"};
-  std::printf(
-      "ceilnav pattern-accuracy: %zu frames, %dx%d, noise %.1f, blur %.2f px, %s; host "
-      "calibration: noise %.1f, blur %.2f px\n",
-      rows.size(), o.width, o.height, o.noise_sigma, o.blur_sigma,
-      o.distortion ? "distortion" : "no distortion",
-      o.calib_noise_sigma >= 0.0 ? o.calib_noise_sigma : o.noise_sigma,
-      o.calib_blur_sigma >= 0.0 ? o.calib_blur_sigma : o.blur_sigma);
-  // Table I shape: theta error vs theta (max |error| over D and beta).
-  std::printf("\ntheta error (deg) by theta, max |err| over D (projection: beta = +-90 only)\n");
-  fmt::print("{:>8} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "theta", "projection", "moment", "conic",
-             "conic+bars", "c+b rms");
-  std::map<double, std::array<double, 5>> by_theta;
-  std::map<double, std::array<double, 5>> by_d;
-  std::map<double, std::array<int, 2>> counts_theta, counts_d;
-  bool bars_ok = true;
-  double conic_d_max = 0, conic_theta_max15 = 0;
-  for (const Row& r : rows) {
-    for (int m = 0; m < 4; ++m) {
-      if (!r.ok[m] || (m == 0 && !r.seed_set)) continue;
-      auto& t = by_theta[r.theta];
-      t[static_cast<std::size_t>(m)] =
-          std::max(t[static_cast<std::size_t>(m)], std::abs(r.err[m][1]));
-      auto& dd = by_d[r.d];
-      dd[static_cast<std::size_t>(m)] =
-          std::max(dd[static_cast<std::size_t>(m)], std::abs(r.err[m][0]));
-      if (m == 3) {
-        t[4] += r.err[m][1] * r.err[m][1];
-        dd[4] += r.err[m][0] * r.err[m][0];
-        ++counts_theta[r.theta][0];
-        ++counts_d[r.d][0];
-        conic_d_max = std::max(conic_d_max, std::abs(r.err[m][0]));
-        if (r.theta >= 15.0) conic_theta_max15 = std::max(conic_theta_max15, std::abs(r.err[m][1]));
-      }
-    }
-    if (!r.ok[3]) bars_ok = false;
-  }
-  for (auto& [th, v] : by_theta) {
-    fmt::print("{:8.1f} {:12.3f} {:12.3f} {:12.3f} {:12.3f} {:12.3f}\n", th, v[0], v[1], v[2], v[3],
-               std::sqrt(v[4] / std::max(1, counts_theta[th][0])));
-  }
-  std::printf("\ndistance error (%%) by D, max |err| over theta (projection: beta = +-90 only)\n");
-  fmt::print("{:>8} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "D (m)", "projection", "moment", "conic",
-             "conic+bars", "c+b rms");
-  for (auto& [d, v] : by_d) {
-    fmt::print("{:8.1f} {:12.3f} {:12.3f} {:12.3f} {:12.3f} {:12.3f}\n", d, v[0], v[1], v[2], v[3],
-               std::sqrt(v[4] / std::max(1, counts_d[d][0])));
-  }
-  int beta_frames = 0, beta_resolved[4] = {0, 0, 0, 0};
-  for (const Row& r : rows) {
-    if (r.theta < 15.0 || r.d * std::sin(r.theta * kDeg) < 1.5 * geometry.radius_m) continue;
-    ++beta_frames;
-    for (int m = 1; m < 4; ++m) beta_resolved[m] += r.beta_ok[m];
-  }
-  int visible = 0, visible_read = 0, wrong = 0, visible_thin = 0;
-  for (const Row& r : rows) {
-    if (r.read >= 0 && r.read != r.identity) ++wrong;
-    if (r.code_visible && r.bar_px >= 1.5) {
-      ++visible;
-      visible_read += r.read == r.identity;
-    } else if (r.code_visible) {
-      ++visible_thin;
-    }
-  }
-  std::printf(
-      "\nbeta right (theta >= 15, D sin(theta) >= 1.5 R): moment %d/%d, conic %d/%d, conic+bars "
-      "%d/%d\n",
-      beta_resolved[1], beta_frames, beta_resolved[2], beta_frames, beta_resolved[3], beta_frames);
-  std::printf(
-      "bar code: read on %d of %d frames with the code in view and thin bars >= 1.5 px; "
-      "%d more in view with thinner bars; wrong identities: %d\n",
-      visible_read, visible, visible_thin, wrong);
-  const bool pass = bars_ok && conic_d_max <= 0.3 && conic_theta_max15 <= 0.3 && wrong == 0 &&
-                    visible_read == visible;
-  std::printf(
-      "bars (conic+bars): max |D err| %.3f %% (<= 0.3), max |theta err| for theta >= 15: %.3f "
-      "deg (<= 0.3); identity: %s -> %s\n",
-      conic_d_max, conic_theta_max15, (wrong == 0 && visible_read == visible) ? "ok" : "FAIL",
-      pass ? "PASS" : "FAIL");
-
-  if (!o.csv.empty()) write_accuracy_csv(o.csv, rows);
-  if (!o.plot.empty()) {
-    // Seed Table I (greatest absolute error, deg) and Table II (percent).
-    const std::vector<double> t1x{0, 7.5, 15, 22.5, 30, 37.5, 45, 52.5, 60, 67.5, 75};
-    const std::vector<double> t1y{0.31, 7.32, 2.94, 1.39, 0.47, 2.15, 0.52, 1.48, 0.84, 1.62, 1.90};
-    const std::vector<double> t2x{1, 2, 3, 4, 5}, t2y{2, 0.5, 0.33, 1.78, 2.2};
-    PlotPanel pt{"theta error vs theta (max over D = 1..5 m)",
-                 "theta (deg)",
-                 "|theta error| (deg)",
-                 {},
-                 true};
-    PlotPanel pd{
-        "distance error vs D (max over theta = 0..75 deg)", "D (m)", "|D error| (%)", {}, true};
-    const cv::Scalar colours[4] = {{0, 140, 255}, {200, 80, 0}, {0, 160, 0}, {160, 0, 160}};
-    for (int m = 0; m < 4; ++m) {
-      PlotSeries st{names[m], {}, {}, colours[m]}, sd{names[m], {}, {}, colours[m]};
-      for (auto& [th, v] : by_theta) {
-        st.x.push_back(th);
-        st.y.push_back(v[static_cast<std::size_t>(m)]);
-      }
-      for (auto& [d, v] : by_d) {
-        sd.x.push_back(d);
-        sd.y.push_back(v[static_cast<std::size_t>(m)]);
-      }
-      pt.series.push_back(st);
-      pd.series.push_back(sd);
-    }
-    pt.series.push_back({"seed Table I (greatest)", t1x, t1y, {0, 0, 200}});
-    pd.series.push_back({"seed Table II", t2x, t2y, {0, 0, 200}});
-    // Seed eq. 48 / 55 with k = 1 for this camera at D = 5 m (projection method).
-    PlotSeries m48{"seed eq. 48, k = 1", {}, {}, {120, 120, 120}};
-    for (double d = 1.0; d <= 5.0; d += 0.5) {
-      m48.x.push_back(d);
-      m48.y.push_back(100.0 * d * (1.0 / camera.fy()) / (2.0 * geometry.radius_m));
-    }
-    pd.series.push_back(m48);
-    PlotSeries m55{"seed eq. 55, k = 1, D = 5 m", {}, {}, {120, 120, 120}};
-    const double nb = 2.0 * camera.fy() * geometry.radius_m / 5.0;
-    for (double th = 0; th <= 75.0; th += 2.5) {
-      const double na = nb * std::cos(th * kDeg);
-      const double worst =
-          std::max(std::abs(th - std::acos(std::min(1.0, (na + 1) / (nb - 1))) / kDeg),
-                   std::abs(th - std::acos(std::min(1.0, (na - 1) / (nb + 1))) / kDeg));
-      m55.x.push_back(th);
-      m55.y.push_back(worst);
-    }
-    pt.series.push_back(m55);
-    write_plots(o.plot, {pt, pd});  // with its .dat and .gp beside it
-  }
-  return (o.require && !pass) ? 1 : 0;
-}
-
-// ---------------------------------------------------------------- pattern
-
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -410,8 +114,8 @@ struct FixRow {
 };
 
 // One frame's fix: the exact conic pose refined with the bars, the code, the database.
-FixRow make_fix(const Analysis& a, const gp::PatternDatabase& db, const Eigen::Vector3d& up_cam,
-                double pan_rad) {
+FixRow make_fix(const PatternFrameAnalysis& a, const gp::PatternDatabase& db,
+                const Eigen::Vector3d& up_cam, double pan_rad) {
   FixRow r;
   r.code_status = std::string(hp::to_string(a.code.status));
   r.identity = a.code.identity;
@@ -508,7 +212,7 @@ int run_pattern_frames(const PatternOptions& o) {
   cv::Mat last_overlay;
   for (const fs::path& f : frames) {
     const cv::Mat grey = host::read_grey_frame(f, camera.image_width, camera.image_height);
-    const Analysis a = analyse(device, grey, radiometry, model, po);
+    const PatternFrameAnalysis a = analyse_pattern_frame(device, grey, radiometry, model, po);
     FixRow r = make_fix(a, db, po.up_cam, 0.0);
     r.frame = f.filename().string();
     if (!o.quiet) std::printf("%s: %s\n", r.frame.c_str(), fix_text(r).c_str());
@@ -579,7 +283,7 @@ int run_pattern(const PatternOptions& o) {
     }
     hp::PoseOptions po = pose_options_for(db.geometry);
     po.noise_grey = o.noise_sigma;
-    const Analysis a = analyse(device, grey, radiometry, model, po);
+    const PatternFrameAnalysis a = analyse_pattern_frame(device, grey, radiometry, model, po);
     FixRow r = make_fix(a, db, po.up_cam, pan);
     r.frame = frame_name_png(static_cast<int>(rows.size()));
     r.pan_deg = pan / kDeg;

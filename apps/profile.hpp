@@ -13,6 +13,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "ceilnav/regs.hpp"
 #include "host/camera_config.hpp"
 #include "host/sim_bus.hpp"
 #include "host/status.hpp"
@@ -44,6 +45,8 @@ struct ProfileScenario {
   double backpressure = 0.0;      // P(m_axis_runs_tready low) on each cycle, in [0, 1)
   int tapes = 1;                  // parallel tapes in the rendered scene
   uint64_t seed = 1;              // gaps, back-pressure and the renderer's noise
+  // The device's build-time configuration (regs::kConfigs: tape, full).
+  regs::Config device_config = regs::kConfigFull;
 };
 
 // The feed of one frame on s_axis_video for the scenario. Every pattern ends
