@@ -56,7 +56,7 @@ class ClassMomentsBench {
 
   bool step(const Stim& s) {
     if (s.reset_before) {
-      sim_.async_reset();
+      sim_.reset_cycle();
       model_.reset();
       if (!compare()) return false;
     }

@@ -3,8 +3,10 @@
 // Protocol (Verilator's examples): every cycle starts with clk_i low; the test
 // sets the inputs of both the RTL and the C++ model, then edge() settles the
 // inputs, raises clk_i (the sampling edge), settles the outputs and lowers
-// clk_i again, so inputs never change on the sampling edge. async_reset()
-// pulses rst_ni low between two edges (the C++ model's reset()).
+// clk_i again, so inputs never change on the sampling edge. reset_cycle()
+// holds rst_ni low across one rising edge (the C++ model's reset() stands for
+// that edge): an asynchronous reset sees the falling rst_ni, a synchronous one
+// the edge, so the same harness serves both.
 //
 // Environment (switched by option, not by editing code):
 //   CEILNAV_COSIM_SEED=<n>    overrides every test's default seed
@@ -135,7 +137,7 @@ class Cosim {
     top_->clk_i = 0;
     top_->rst_ni = 1;
     top_->eval();
-    async_reset();
+    reset_cycle();
   }
 
   ~Cosim() {
@@ -168,11 +170,13 @@ class Cosim {
     ctx_->time(cycle_ * kPeriodTicks);
   }
 
-  // Asynchronous reset pulse between two edges (clk_i stays low).
-  void async_reset() {
+  // One reset cycle: rst_ni falls with clk_i low, stays low across one rising
+  // edge (counted in cycle()) and rises again with clk_i low.
+  void reset_cycle() {
     top_->rst_ni = 0;
     top_->eval();
     dump(cycle_ * kPeriodTicks + 1);
+    edge();
     top_->rst_ni = 1;
     top_->eval();
     dump(cycle_ * kPeriodTicks + 2);

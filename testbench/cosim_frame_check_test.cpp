@@ -25,12 +25,12 @@ namespace {
 using stream::FrameCheck;
 using stream::VideoBeat;
 
-// One clock of stimulus: the beat, the configuration inputs, or a reset pulse.
+// One clock of stimulus: the beat, the configuration inputs, or a reset cycle.
 struct VideoCycle {
   VideoBeat beat;
   uint16_t cfg_width = 1;  // 12-bit port: 0 .. 4095
   uint16_t cfg_height = 1;
-  bool reset = false;  // async reset pulse before this cycle's edge
+  bool reset = false;  // reset_cycle() before this cycle's edge
 };
 
 class FrameCheckBench {
@@ -46,7 +46,7 @@ class FrameCheckBench {
         return;
       }
       if (c.reset) {
-        sim_.async_reset();
+        sim_.reset_cycle();
         model_.reset();
         compare();
       }
@@ -152,7 +152,7 @@ VideoBeat gap_beat(Rng& rng) {
 
 // Appends one frame of width x height (pixels from img if given, else random)
 // with tvalid gaps of probability gap_prob, the given fault and, with
-// probability reset_prob, one reset pulse at a random cycle of the frame.
+// probability reset_prob, one reset cycle at a random cycle of the frame.
 void append_frame(std::vector<VideoCycle>& out, Rng& rng, StimulusState& st, int width, int height,
                   const cv::Mat* img, double gap_prob, Fault fault, double reset_prob) {
   const size_t first = out.size();

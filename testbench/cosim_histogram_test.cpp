@@ -35,7 +35,7 @@ struct HistCycle {
   bool keep = true;  // with an EOF: the pipeline publishes the frame
   bool rd_en = false;
   uint8_t rd_bin = 0;
-  bool reset = false;  // async reset pulse before this cycle's edge
+  bool reset = false;  // reset_cycle() before this cycle's edge
 };
 
 class HistogramBench {
@@ -47,7 +47,7 @@ class HistogramBench {
 
   void step(const HistCycle& c) {
     if (c.reset) {
-      sim_.async_reset();
+      sim_.reset_cycle();
       model_.reset();
       compare();
     }

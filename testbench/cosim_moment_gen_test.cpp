@@ -28,7 +28,7 @@ using stream::LutBeat;
 using stream::MomentGen;
 using stream::test::LutFrame;
 
-// One beat of stimulus; reset_before pulses rst_ni before the beat's edge.
+// One beat of stimulus; reset_before runs a reset cycle before the beat's edge.
 struct Stim {
   LutBeat beat;
   bool reset_before = false;
@@ -42,7 +42,7 @@ class MomentGenBench {
   // One clock with `in` on the s_lut port; false after the first mismatch.
   bool step(const Stim& s) {
     if (s.reset_before) {
-      sim_.async_reset();
+      sim_.reset_cycle();
       model_.reset();
       if (!compare()) return false;
     }

@@ -99,7 +99,7 @@ void run(uint64_t seed, uint64_t cycles) {
   uint64_t okay_reads = 0, okay_writes = 0, irq_rises = 0, ext_reads = 0, store_reads = 0;
   for (uint64_t c = 0; c < cycles && !sim.failed(); ++c) {
     if (rng.chance(0.0005)) {
-      sim.async_reset();
+      sim.reset_cycle();
       model.reset();
     }
     // Raw random master: sticky valids with random drops, random readys.

@@ -36,7 +36,7 @@ static_assert(stream::unpack_run_beat(stream::pack_run_beat({2047, 7, 2046, 5222
               stream::RunRecord{2047, 7, 2046, 522240, 534512640});
 
 // One clock of stimulus: the s_lut beat, the config port, tready, and an
-// optional reset pulse before the edge.
+// optional reset cycle before the edge.
 struct Stim {
   LutBeat beat;
   RunScanConfig cfg;
@@ -64,7 +64,7 @@ class RunScannerBench {
 
   bool step(const Stim& s) {
     if (s.reset_before) {
-      sim_.async_reset();
+      sim_.reset_cycle();
       model_.reset();
       if (!compare()) return false;
     }

@@ -36,7 +36,7 @@ struct LutCycle {
   PixelBeat pix;
   bool frame_start = false;
   LutWrite wr;
-  bool reset = false;  // async reset pulse before this cycle's edge
+  bool reset = false;  // reset_cycle() before this cycle's edge
 };
 
 class ThreshLutBench {
@@ -48,7 +48,7 @@ class ThreshLutBench {
 
   void step(const LutCycle& c) {
     if (c.reset) {
-      sim_.async_reset();
+      sim_.reset_cycle();
       model_.reset();
       compare();
     }

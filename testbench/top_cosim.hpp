@@ -71,10 +71,10 @@ class TopCosim {
         model_(regs::kRunFifoDepth, kTopConfig),
         master_(seed ^ 0xA5A5A5A5u, stream::AxiLiteMaster::Timing{0.3, 0.3}) {
     // The datapath's reset is rst_ni & ~soft_rst_q. With the random power-up
-    // state soft_rst_q may start at 1, and then the first rst_ni pulse makes no
+    // state soft_rst_q may start at 1, and then the first rst_ni fall makes no
     // negedge on the datapath reset in the simulator (real reset is a level):
-    // a second pulse, with soft_rst_q now 0, resets the datapath too.
-    sim_.async_reset();
+    // a second reset cycle, with soft_rst_q now 0, resets the datapath too.
+    sim_.reset_cycle();
     model_.reset();
   }
 
@@ -103,10 +103,10 @@ class TopCosim {
     return compare();
   }
 
-  // Hardware reset (rst_ni pulse between two edges) of both tops, e.g. in
+  // Hardware reset (rst_ni low across one edge) of both tops, e.g. in
   // mid-frame. Call with the bus master idle: a reset drops a transaction.
   void hard_reset() {
-    sim_.async_reset();
+    sim_.reset_cycle();
     model_.reset();
   }
 
