@@ -168,11 +168,11 @@ class Cosim {
     ctx_->time(cycle_ * kPeriodTicks);
   }
 
-  // Asynchronous reset pulse between two edges (clk_i stays low).
+  // Reset: rst_ni held low across one rising edge (the flops reset
+  // synchronously; the C++ model's reset() stands for that edge).
   void async_reset() {
     top_->rst_ni = 0;
-    top_->eval();
-    dump(cycle_ * kPeriodTicks + 1);
+    edge();
     top_->rst_ni = 1;
     top_->eval();
     dump(cycle_ * kPeriodTicks + 2);
