@@ -251,16 +251,14 @@ class Rtl {
   Rtl(const Rtl&) = delete;
   Rtl& operator=(const Rtl&) = delete;
 
-  // Two pulses: the datapath reset is rst_ni & ~soft_rst_q, and soft_rst_q
-  // may power up at 1, which hides the first falling edge from the datapath.
+  // The flops reset synchronously: rst_ni low across one rising edge.
   void reset() {
     top_->clk_i = 0;
-    for (int pulse = 0; pulse < 2; ++pulse) {
-      top_->rst_ni = 1;
-      top_->eval();
-      top_->rst_ni = 0;
-      top_->eval();
-    }
+    top_->rst_ni = 0;
+    top_->eval();
+    top_->clk_i = 1;
+    top_->eval();
+    top_->clk_i = 0;
     top_->rst_ni = 1;
     top_->eval();
   }

@@ -118,8 +118,10 @@ module ceilnav_top #(
   logic [FifoCountBits-1:0] fifo_occupancy;
   logic                     soft_reset, wr_lut_data, hist_rd_en, run_pop;
 
-  // The soft reset comes from a flop: glitch-free, released on a clock edge.
-  assign dp_rst_n  = rst_ni & ~soft_rst_q;
+  // Synchronous datapath reset: low on the edge that accepts the soft-reset
+  // strobe and on the next one (soft_rst_q), so the datapath leaves the same
+  // two edges in reset as the former asynchronous rst_ni & ~soft_rst_q did.
+  assign dp_rst_n   = rst_ni & ~soft_reset & ~soft_rst_q;
   assign video_sof = s_axis_video_tvalid_i & s_axis_video_tuser_i;
   // The gate passes whole frames: CONTROL.ENABLE as it is before the SOF beat's edge.
   assign pass      = s_axis_video_tvalid_i &
@@ -228,7 +230,7 @@ module ceilnav_top #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       store_rd_valid_q <= 1'b0;
     end else if (store_re) begin
@@ -287,7 +289,7 @@ module ceilnav_top #(
   end
 
   // ---------------------------------------------------------------------------
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       lut_wr_en_q          <= 1'b0;
       lut_wr_index_q       <= '0;

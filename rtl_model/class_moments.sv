@@ -76,7 +76,7 @@ module class_moments #(
   assign y2_d = s_lut_sof_i ? '0 :
                 row_start_q ? t_y2_q + TermBits'({t_y_q, 1'b1}) : t_y2_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       frame_open_q <= 1'b0;
       row_start_q  <= 1'b0;
@@ -88,7 +88,7 @@ module class_moments #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       t_valid_q <= 1'b0;
     end else begin
@@ -96,7 +96,7 @@ module class_moments #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       t_start_q <= 1'b0;
       t_end_q   <= 1'b0;
@@ -118,7 +118,7 @@ module class_moments #(
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       win_x0_q <= '0;
       win_x1_q <= '0;
@@ -142,7 +142,7 @@ module class_moments #(
 
   logic end_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       end_q  <= 1'b0;
       done_o <= 1'b0;
@@ -184,7 +184,7 @@ module class_moments #(
 
     // Stage 2 -> outputs: the finished frame's accumulators, on the edge on
     // which the next frame's first pixel may already restart them.
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i) begin
       if (!rst_ni) begin
         out00_q <= '0;
         out10_q <= '0;

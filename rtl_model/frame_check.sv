@@ -145,7 +145,7 @@ module frame_check #(
   for (genvar i = 0; i < 6; i++) begin : g_counter
     logic [CounterBits:0] sum;
     assign sum = {1'b0, cnt_q[i*CounterBits +: CounterBits]} + (CounterBits + 1)'(1);
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i) begin
       if (!rst_ni) begin
         cnt_q[i*CounterBits +: CounterBits] <= '0;
       end else if (inc[i] && !sum[CounterBits]) begin
@@ -156,7 +156,7 @@ module frame_check #(
 
   // ---------------------------------------------------------------------------
   // Registers.
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       state_q     <= StIdle;
       x_max_q     <= '0;

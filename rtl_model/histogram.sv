@@ -65,7 +65,7 @@ module histogram #(
   bank_t            acc_q   = '0;  // bank of the open or last frame
 
   logic        counting_q, frame_open_q, source_remap_q, eof_q, done_q, res_valid_q;
-  logic        rst_mark_q;  // since the last reset, no edge yet: acc_q counts as dirty
+  logic        rst_mark_q;  // set by a reset until the edge after it: acc_q counts as dirty
   logic [Banks-1:0] dirty;  // dirty_q with the reset's mark
 
   // Stage 1 -> 2 of the read-modify-write
@@ -87,7 +87,7 @@ module histogram #(
   logic [7:0] bin;
 
   // A reset marks the bank of the last frame dirty (it may hold a partial
-  // count) at once; dirty_q takes the mark on the first edge after the reset.
+  // count) from its edge on; dirty_q takes the mark on the next edge.
   always_comb begin
     dirty = dirty_q;
     if (rst_mark_q) begin
@@ -147,7 +147,7 @@ module histogram #(
     assign wr_acc  = s1_accum_q && s1_bank_q == BankBits'(b);
     assign wr_en   = wr_acc || clr_busy_q[b];
     assign wr_addr = wr_acc ? s1_bin_q : clr_ptr_q;
-    assign clr_done[b] = clr_busy_q[b] & (clr_ptr_q == 8'd255);
+    assign clr_done[b] = rst_ni & clr_busy_q[b] & (clr_ptr_q == 8'd255);
 
     always_ff @(posedge clk_i) begin
       if (wr_en) begin
@@ -159,7 +159,7 @@ module histogram #(
     end
 
     // Clear sweep: starts the edge after the bank became dirty, one bin per edge.
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i) begin
       if (!rst_ni) begin
         clr_busy_q[b] <= 1'b0;
         clr_ptr_q     <= '0;
@@ -180,37 +180,40 @@ module histogram #(
   assign new_count = (s1_sof_q ? '0 : count_rd) + BinBits'(1);
 
   // ---------------------------------------------------------------------------
-  // Bank roles (not reset). Every source of a change below is held inactive
-  // by the reset, so an edge in reset changes nothing but the reset's mark.
-  // Order of the marks within an edge: the sweeps' "clean" first, then every
-  // "dirty" (a set wins).
+  // Bank roles (not reset): an edge in reset changes nothing but the reset's
+  // mark. Order of the marks within an edge: the sweeps' "clean" first, then
+  // every "dirty" (a set wins).
   logic [Banks-1:0] dirty_d;
 
   always_comb begin
     dirty_d = dirty & ~clr_done;
-    if (eof_q) begin
-      dirty_d[disp_q] = 1'b1;  // the old result bank
-    end
-    if (s_lut_abort_i && frame_open_q && counting_q) begin
-      dirty_d[acc_q] = 1'b1;
-    end
-    if (s_lut_valid_i && s_lut_eof_i && beat_counts && !keep_i) begin
-      dirty_d[bank] = 1'b1;
+    if (!rst_ni) begin
+      dirty_d = dirty;
+    end else begin
+      if (eof_q) begin
+        dirty_d[disp_q] = 1'b1;  // the old result bank
+      end
+      if (s_lut_abort_i && frame_open_q && counting_q) begin
+        dirty_d[acc_q] = 1'b1;
+      end
+      if (s_lut_valid_i && s_lut_eof_i && beat_counts && !keep_i) begin
+        dirty_d[bank] = 1'b1;
+      end
     end
   end
 
   always_ff @(posedge clk_i) begin
     dirty_q <= dirty_d;
-    if (eof_q) begin
+    if (rst_ni && eof_q) begin
       disp_q <= acc_q;
     end
-    if (sof && free_ok) begin
+    if (rst_ni && sof && free_ok) begin
       acc_q <= free_bank;
     end
   end
 
   // ---------------------------------------------------------------------------
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       rst_mark_q     <= 1'b1;
       counting_q     <= 1'b0;

@@ -91,7 +91,7 @@ module moment_gen (
   assign row_start = s_lut_sof_i | row_start_q;
   assign first_row = s_lut_sof_i | first_row_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       frame_open_q <= 1'b0;
       row_start_q  <= 1'b0;
@@ -109,7 +109,7 @@ module moment_gen (
   logic [2:1] val_q, rs_q;  // stage k: valid pixel, first of its row
   logic [3:1] eol_q, fr_q;  // stage k: valid row end, in the frame's first row
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       val_q <= '0;
       rs_q  <= '0;
@@ -132,7 +132,7 @@ module moment_gen (
   logic [KA2-1:0] ka2_q;
   logic [KA3-1:0] ka3_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       ga1_q <= '0;
       ka1_q <= '0;
@@ -142,7 +142,7 @@ module moment_gen (
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       ga2_q <= '0;
       ka2_q <= '0;
@@ -152,7 +152,7 @@ module moment_gen (
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       ga3_q <= '0;
       ka3_q <= '0;
@@ -176,7 +176,7 @@ module moment_gen (
   logic [KF11-1:0] kf11_q;
   logic [KF02-1:0] kf02_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       gf00_q <= '0;
       kf00_q <= '0;
@@ -186,7 +186,7 @@ module moment_gen (
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       gf10_q <= '0;
       gf01_q <= '0;
@@ -200,7 +200,7 @@ module moment_gen (
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       gf20_q <= '0;
       gf11_q <= '0;
@@ -231,7 +231,7 @@ module moment_gen (
   assign last_step = busy_q & (cnt_q == DoneCnt);
   assign accept    = eof_take & ~eof_drop_i & (~busy_q | last_step);
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       busy_q          <= 1'b0;
       cnt_q           <= '0;
@@ -302,7 +302,7 @@ module moment_gen (
   assign k_sh[4] = busy_q & in_win(cnt_q, PassStart, KR11 + 1);
   assign k_sh[5] = busy_q & in_win(cnt_q, PassStart, KR02 + 1);
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       gr00_q <= '0;
       kr00_q <= '0;
@@ -314,7 +314,7 @@ module moment_gen (
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       gr10_q <= '0;
       gr01_q <= '0;
@@ -332,7 +332,7 @@ module moment_gen (
     end
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       gr20_q <= '0;
       gr11_q <= '0;
@@ -504,7 +504,7 @@ module moment_gen (
   logic                        wr_active_q, done_q;
   logic [4:0]                  wr_step_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       slot_q      <= '0;
       wr_active_q <= 1'b0;
@@ -549,7 +549,7 @@ module moment_gen (
   logic [CoordBits-1:0] x_chk, y_chk;
   assign x_chk = s_lut_sof_i ? '0 : x_chk_q;
   assign y_chk = s_lut_sof_i ? '0 : y_chk_q;
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       x_chk_q <= '0;
       y_chk_q <= '0;

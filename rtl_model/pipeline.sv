@@ -27,7 +27,7 @@ module pipeline #(
   localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1
 ) (
   input  logic                     clk_i,
-  input  logic                     rst_ni,
+  input  logic                     rst_ni,       // synchronous, active low
 
   // Video (tready = 1)
   input  logic [7:0]               s_axis_video_tdata_i,
@@ -317,7 +317,7 @@ module pipeline #(
   assign accept  = lut_valid & lut_eof & mom_accept;
   assign meta_wr = meta_pend_q & ~runs_pend_q & ~mom_wr_valid;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       cfg_fc_q       <= '0;
       cfg_lut_q      <= '0;
@@ -430,7 +430,7 @@ module pipeline #(
     );
 
     logic [ClassResBits-1:0] res_class_q;
-    always_ff @(posedge clk_i or negedge rst_ni) begin
+    always_ff @(posedge clk_i) begin
       if (!rst_ni)            res_class_q <= '0;
       else if (mom_done_next) res_class_q <= {c02, c11, c20, c01, c10, c00};
     end
@@ -469,7 +469,7 @@ module pipeline #(
   // Every publication has a staged set, and a set is never overwritten before
   // it is published (see the header). Unprovable only once overrun_count saturates.
   logic staged_pending_q;
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni)            staged_pending_q <= 1'b0;
     else if (accept)        staged_pending_q <= 1'b1;
     else if (mom_done_next) staged_pending_q <= 1'b0;

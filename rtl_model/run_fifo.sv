@@ -92,7 +92,7 @@ module run_fifo #(
     assign late_rdata[b*LateWidth +: LateWidth] = late_rdata_q;
   end
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       wp_q       <= '0;
       rp_q       <= '0;

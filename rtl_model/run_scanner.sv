@@ -331,7 +331,7 @@ module run_scanner #(
   logic [CountBits-1:0]    stat_high_water_q;
   logic                    done_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       cfg_bg_q <= 8'd0;  // RunScanConfig{} (unused until an SOF latches the port)
       cfg_min_len_q <= 16'd1;
@@ -464,7 +464,7 @@ module run_scanner #(
   logic                 tlast_q, stalled_q;
   assign x_cnt = sof ? '0 : x_q;
   assign y_cnt = sof ? '0 : y_q;
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       x_q <= '0;
       y_q <= '0;

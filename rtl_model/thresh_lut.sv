@@ -87,7 +87,7 @@ module thresh_lut #(
   logic                 pix_eof_q;
   logic                 pix_abort_q;
 
-  always_ff @(posedge clk_i or negedge rst_ni) begin
+  always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
       active_q    <= 1'b0;
       pending_q   <= 1'b0;

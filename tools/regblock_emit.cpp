@@ -393,7 +393,7 @@ std::string sv_regblock(const RegMap& m) {
       }
     }
   }
-  o << "  end\n\n  always_ff @(posedge clk_i or negedge rst_ni) begin\n    if (!rst_ni) begin\n";
+  o << "  end\n\n  always_ff @(posedge clk_i) begin\n    if (!rst_ni) begin\n";
   for (const Register& r : m.registers) {
     for (const Field& f : r.fields) {
       if (!stored(f)) continue;
@@ -483,7 +483,7 @@ std::string sv_regblock(const RegMap& m) {
 
   // Channels.
   o << "  // AXI4-Lite channels.\n"
-    << "  always_ff @(posedge clk_i or negedge rst_ni) begin\n    if (!rst_ni) begin\n"
+    << "  always_ff @(posedge clk_i) begin\n    if (!rst_ni) begin\n"
     << "      awready_q  <= 1'b0;\n      bvalid_q   <= 1'b0;\n      bresp_q    <= RespOkay;\n"
     << "      arready_q  <= 1'b1;\n      rvalid_q   <= 1'b0;\n      rdata_q    <= '0;\n"
     << "      rresp_q    <= RespOkay;\n      rd_stage_q <= 2'd0;\n      rd_sel_q   <= '0;\n"
