@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "host/camera_config.hpp"
+#include "common/camera_config.hpp"
 #include "host/device.hpp"
 
 namespace ceilnav::app {
