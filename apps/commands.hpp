@@ -7,7 +7,7 @@
 #include <numbers>
 #include <string>
 
-#include "host/camera_config.hpp"
+#include "common/camera_config.hpp"
 #include "host/device.hpp"
 
 namespace ceilnav::app {

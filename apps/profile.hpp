@@ -14,7 +14,7 @@
 #include <opencv2/core.hpp>
 
 #include "ceilnav/regs.hpp"
-#include "host/camera_config.hpp"
+#include "common/camera_config.hpp"
 #include "host/sim_bus.hpp"
 #include "host/status.hpp"
 

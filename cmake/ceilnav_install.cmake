@@ -3,8 +3,8 @@
 # and a CMake package (find_package(ceilnav), targets ceilnav::*).
 include(CMakePackageConfigHelpers)
 
-set(ceilnav_exported ceilnav_warnings ceilnav_fixedpoint ceilnav_regs ceilnav_stream ceilnav_host
-                     ceilnav_golden ceilnav_host_pattern ceilnav_golden_pattern)
+set(ceilnav_exported ceilnav_warnings ceilnav_common ceilnav_fixedpoint ceilnav_regs ceilnav_stream
+                     ceilnav_host ceilnav_golden ceilnav_host_pattern ceilnav_golden_pattern)
 foreach(t IN LISTS ceilnav_exported)
   string(REGEX REPLACE "^ceilnav_" "" short ${t})
   set_target_properties(${t} PROPERTIES EXPORT_NAME ${short})
@@ -14,7 +14,7 @@ install(TARGETS ${ceilnav_exported} EXPORT ceilnavTargets
         INCLUDES DESTINATION ${CEILNAV_INSTALL_INCLUDEDIR})
 install(TARGETS ceilnav RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
-foreach(dir IN ITEMS fixedpoint stream host golden)
+foreach(dir IN ITEMS common fixedpoint stream host golden)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/ DESTINATION ${CEILNAV_INSTALL_INCLUDEDIR}/${dir}
           FILES_MATCHING PATTERN "*.hpp" PATTERN "tests" EXCLUDE)
 endforeach()

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/camera_config.hpp"
 #include "fuzz/byte_reader.hpp"
-#include "host/camera_config.hpp"
 #include "stream/run_record.hpp"
 
 namespace ceilnav::fuzz {

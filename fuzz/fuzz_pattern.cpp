@@ -30,10 +30,10 @@
 #include <string>
 #include <vector>
 
+#include "common/camera_config.hpp"
 #include "fuzz/byte_reader.hpp"
 #include "fuzz/check.hpp"
 #include "fuzz/decode.hpp"
-#include "host/camera_config.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
 #include "host/pattern/pattern_frame.hpp"

@@ -4,9 +4,9 @@
 
 #include <vector>
 
+#include "common/camera_config.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
-#include "host/camera_config.hpp"
 
 namespace ceilnav::golden {
 

@@ -12,8 +12,8 @@
 #include <optional>
 #include <vector>
 
+#include "common/camera_config.hpp"
 #include "golden/scene.hpp"
-#include "host/camera_config.hpp"
 
 namespace ceilnav::golden {
 

@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "host/camera_config.hpp"
+#include "common/camera_config.hpp"
 
 namespace ceilnav::golden {
 

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "host/camera_config.hpp"
+#include "common/camera_config.hpp"
 
 namespace ceilnav::host {
 

@@ -17,9 +17,9 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/camera_config.hpp"
 #include "host/auto_threshold.hpp"
 #include "host/bus.hpp"
-#include "host/camera_config.hpp"
 #include "host/camera_model.hpp"
 #include "host/device.hpp"
 #include "host/driver.hpp"

@@ -13,7 +13,7 @@
 
 #include <Eigen/Core>
 
-#include "host/camera_config.hpp"
+#include "common/camera_config.hpp"
 #include "host/camera_model.hpp"
 #include "host/status.hpp"
 #include "host/tape_pose.hpp"

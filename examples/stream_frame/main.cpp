@@ -7,9 +7,9 @@
 #include <numbers>
 #include <string>
 
+#include "common/camera_config.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
-#include "host/camera_config.hpp"
 #include "host/navigator.hpp"
 #include "host/status.hpp"
 

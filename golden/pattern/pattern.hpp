@@ -20,8 +20,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/camera_config.hpp"
 #include "golden/renderer.hpp"
-#include "host/camera_config.hpp"
 #include "host/pattern/disc_coverage.hpp"
 #include "stream/config.hpp"
 #include "stream/run_record.hpp"
