@@ -10,8 +10,8 @@
 
 #include "apps/atomic_file.hpp"
 #include "apps/commands.hpp"
+#include "common/camera_config.hpp"
 #include "golden/scene.hpp"
-#include "host/camera_config.hpp"
 #include "host/navigator.hpp"
 
 namespace ceilnav::app {

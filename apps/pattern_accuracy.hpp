@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "apps/pattern_commands.hpp"
+#include "common/camera_config.hpp"
 #include "golden/pattern/pattern.hpp"
-#include "host/camera_config.hpp"
 
 namespace ceilnav::app {
 
