@@ -38,7 +38,7 @@ class CeilnavTop {
   explicit CeilnavTop(uint32_t run_fifo_depth = regs::kRunFifoDepth,
                       const regs::Config& config = regs::kConfigFull);
 
-  // Asynchronous active-low reset (rst_ni) of every register, the register
+  // Synchronous active-low reset (rst_ni) of every register, the register
   // file included. LUT contents (BRAM) are kept; the active bank becomes 0.
   void reset();
 

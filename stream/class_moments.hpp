@@ -31,7 +31,7 @@ class ClassMoments {
 
   ClassMoments() { reset(); }
 
-  // Asynchronous active-low reset: every register to zero, no frame open.
+  // Synchronous active-low reset: every register to zero, no frame open.
   void reset();
 
   // One rising edge. Samples the LutBeat port (pix.*, cls), the window ports

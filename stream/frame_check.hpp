@@ -19,7 +19,7 @@ class FrameCheck {
 
   FrameCheck() { reset(); }
 
-  // Asynchronous active-low reset: counters to zero, state kIdle, output idle.
+  // Synchronous active-low reset: counters to zero, state kIdle, output idle.
   void reset();
 
   // One rising edge. cfg_width/cfg_height are the configuration inputs; they

@@ -63,7 +63,7 @@ class MomentGen {
 
   MomentGen() { reset(); }
 
-  // Asynchronous active-low reset: all registers to zero, no frame open.
+  // Synchronous active-low reset: all registers to zero, no frame open.
   void reset();
 
   // One rising clock edge; samples the LutBeat port (remap, mask, pix.*) and

@@ -48,7 +48,7 @@ class Pipeline {
 
   bool has_class_moments() const { return has_class_moments_; }
 
-  // Asynchronous active-low reset of every register (not of the LUT BRAM nor
+  // Synchronous active-low reset of every register (not of the LUT BRAM nor
   // of the shadow configuration, which the host owns).
   void reset();
 

@@ -65,7 +65,7 @@ class RunScanner {
   // for the frame's trailer).
   explicit RunScanner(uint32_t fifo_depth = kDefaultFifoDepth);
 
-  // Asynchronous active-low reset: FIFO empty, output idle, counters zero.
+  // Synchronous active-low reset: FIFO empty, output idle, counters zero.
   void reset();
 
   // Configuration input port (the pipeline's active config). Its value at the

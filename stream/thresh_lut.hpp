@@ -28,7 +28,7 @@ class ThreshLut {
 
   ThreshLut() { reset(); }
 
-  // Asynchronous active-low reset of the registers: bank select, pending flag
+  // Synchronous active-low reset of the registers: bank select, pending flag
   // and output. The BRAM contents are not reset (as in hardware); the model
   // zeroes them only at construction.
   void reset();
