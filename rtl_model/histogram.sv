@@ -145,7 +145,9 @@ module histogram #(
     assign rd_en   = rd_pix || (hist_rd_en_i && disp_q == BankBits'(b));
     assign rd_addr = rd_pix ? bin : hist_rd_bin_i;
     assign wr_acc  = s1_accum_q && s1_bank_q == BankBits'(b);
-    assign wr_en   = wr_acc || clr_busy_q[b];
+    // No write on an edge in reset: the registers that drive it may hold
+    // anything there (power-up), and a reset changes no bank contents.
+    assign wr_en   = rst_ni && (wr_acc || clr_busy_q[b]);
     assign wr_addr = wr_acc ? s1_bin_q : clr_ptr_q;
     assign clr_done[b] = rst_ni & clr_busy_q[b] & (clr_ptr_q == 8'd255);
 
