@@ -17,11 +17,12 @@
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
 #include "apps/results_csv.hpp"
+#include "common/csv.hpp"
+#include "drivers/device.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/camera_config_io.hpp"
-#include "host/csv.hpp"
 #include "host/navigator.hpp"
 
 namespace ceilnav::app {
@@ -42,7 +43,7 @@ int run_accuracy(const AccuracyOptions& o) {
   std::unique_ptr<AtomicFile> csv;
   if (!o.csv.empty()) {
     csv = std::make_unique<AtomicFile>(o.csv);
-    host::CsvWriter(csv->stream())
+    CsvWriter(csv->stream())
         .row({"frame", "pitch_deg", "yaw_true_rad", "offset_true_m", "noise", "blur", "status",
               "yaw_err_deg", "offset_err_mm", "points_used"});
   }
@@ -66,7 +67,7 @@ int run_accuracy(const AccuracyOptions& o) {
     const cv::Mat frame = golden::render_frame(camera, scene, s.pose, params);
     const golden::FrameTruth truth = golden::truth_for(camera, scene, s.pose);
     // Each frame is a new camera: a fresh navigator (first frame: two passes).
-    host::Navigator nav(camera);
+    host::Navigator nav(camera, drivers::make_device());
     const host::FrameOutcome r = nav.process(frame);
     const std::string status = frame_status(r);
     ++statuses[status];
@@ -82,7 +83,7 @@ int run_accuracy(const AccuracyOptions& o) {
     }
     if (csv) {
       // Truth and sample columns: 6 significant digits; errors: 6 decimals.
-      host::CsvWriter w(csv->stream());
+      CsvWriter w(csv->stream());
       w.integer(i).general(s.pitch_deg, 6).general(truth.yaw_rad, 6).general(truth.offset_m, 6);
       w.general(s.noise, 6).general(s.blur, 6).text(status);
       if (status == "ok") {

@@ -10,7 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/commands.hpp"
-#include "apps/rtl_backend.hpp"
+#include "drivers/rtl_backend.hpp"
 #include "golden/default_scene.hpp"
 #include "host/camera_config_io.hpp"
 
@@ -41,12 +41,6 @@ void write_scene(const OutputFolder& folder, const host::CameraConfig& camera) {
   host::load_camera_config(path);
 }
 
-void configure_backend(host::NavigatorOptions& opt, const std::string& name) {
-  const host::DeviceOptions d = device_options(name);
-  opt.backend = d.backend;
-  opt.bus_factory = d.bus_factory;
-}
-
 std::string frame_name(int i) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "frame_%04d.png", i);
@@ -66,22 +60,22 @@ SampledPose sample_pose(std::mt19937_64& rng, double pitch_min, double pitch_max
   return s;
 }
 
-host::DeviceOptions device_options(const std::string& backend) {
-  host::DeviceOptions opt;
+drivers::DeviceOptions device_options(const std::string& backend) {
+  drivers::DeviceOptions opt;
   if (backend == "fast") {
-    opt.backend = host::Backend::fast;
+    opt.backend = drivers::Backend::fast;
   } else if (backend == "model") {
-    opt.backend = host::Backend::model;
+    opt.backend = drivers::Backend::model;
   } else if (backend == "rtl") {
-    opt.backend = host::Backend::rtl;
-    opt.bus_factory = rtl_bus_factory();
+    opt.backend = drivers::Backend::rtl;
+    opt.bus_factory = drivers::rtl_bus_factory();
     if (!opt.bus_factory) {
       throw std::runtime_error("this ceilnav was built without the Verilated RTL backend");
     }
   } else {
     throw std::runtime_error("unknown backend '" + backend + "' (fast, model or rtl)");
   }
-  if (opt.backend != host::Backend::fast) {  // exercise the stream handshakes, as demo does
+  if (opt.backend != drivers::Backend::fast) {  // exercise the stream handshakes, as demo does
     opt.gap_probability = 0.1;
     opt.backpressure_probability = 0.3;
   }

@@ -40,9 +40,6 @@ void write_png(const OutputFolder& folder, const std::filesystem::path& relative
 // scene.yaml, read back: cv::FileStorage does not report every write error.
 void write_scene(const OutputFolder& folder, const host::CameraConfig& camera);
 
-// The navigator's device for a backend name (device_options()).
-void configure_backend(host::NavigatorOptions& opt, const std::string& name);
-
 // frame_0000.png, frame_0001.png, ...
 std::string frame_name(int i);
 

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "common/camera_config.hpp"
-#include "host/device.hpp"
+#include "drivers/device.hpp"
 
 namespace ceilnav::app {
 
@@ -17,7 +17,7 @@ inline constexpr double kDeg = std::numbers::pi / 180.0;  // radians per degree
 struct DemoOptions {
   std::string out_dir = "ceilnav-demo";
   int frames = 40;
-  std::string backend = "fast";  // fast | model | rtl (see NavigatorOptions)
+  std::string backend = "fast";  // fast | model | rtl (see drivers::DeviceOptions)
   bool quiet = false;
 };
 int run_demo(const DemoOptions& o);
@@ -70,7 +70,7 @@ int run_accuracy(const AccuracyOptions& o);
 // The device for a backend name (fast, model, or rtl when this build has the
 // Verilated RTL; std::runtime_error otherwise); the bus backends with the
 // demo's tvalid gaps (0.1) and run-stream back-pressure (0.3).
-host::DeviceOptions device_options(const std::string& backend);
+drivers::DeviceOptions device_options(const std::string& backend);
 
 // The default camera (golden/default_scene.hpp) for another frame size: focal
 // lengths and principal point scaled from 640x480.

@@ -15,6 +15,7 @@
 #include "apps/commands.hpp"
 #include "apps/overlay.hpp"
 #include "apps/results_csv.hpp"
+#include "drivers/device.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
@@ -34,12 +35,8 @@ int run_demo(const DemoOptions& o) {
   golden::RenderParams params = golden::default_render_params();
   const std::vector<golden::DrivePose> drive = golden::default_drive(o.frames);
 
-  host::NavigatorOptions nav_opt;
-  configure_backend(nav_opt, o.backend);
-  const bool bus = nav_opt.backend != host::Backend::fast;
-  nav_opt.gap_probability = bus ? 0.1 : 0.0;
-  nav_opt.backpressure_probability = bus ? 0.3 : 0.0;
-  host::Navigator nav(camera, nav_opt);
+  // device_options: on the bus backends, tvalid gaps and back-pressure.
+  host::Navigator nav(camera, drivers::make_device(device_options(o.backend)));
 
   // Everything goes into a staging folder, renamed into place at the end.
   OutputFolder folder(out);

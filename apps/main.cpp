@@ -12,9 +12,9 @@
 #include "apps/commands.hpp"
 #include "apps/pattern_commands.hpp"
 #include "apps/profile.hpp"
+#include "common/version.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/frame_io.hpp"
-#include "stream/version.hpp"
 
 namespace {
 

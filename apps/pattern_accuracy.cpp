@@ -8,8 +8,8 @@
 #include "apps/atomic_file.hpp"
 #include "apps/commands.hpp"
 #include "apps/pattern_analysis.hpp"
+#include "drivers/device.hpp"
 #include "host/camera_model.hpp"
-#include "host/device.hpp"
 
 namespace ceilnav::app {
 namespace gp = golden::pattern;
@@ -20,7 +20,7 @@ std::vector<PatternAccuracyRow> measure_pattern_accuracy(const PatternAccuracyOp
                                                          const gp::PatternGeometry& geometry) {
   const host::CameraModel model(camera);
   const gp::Radiometry radiometry;
-  host::Device device(device_options(o.backend));
+  drivers::Device device(device_options(o.backend));
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   const std::vector<double> distances{1.0, 1.5, 2.0, 3.0, 4.0, 5.0};

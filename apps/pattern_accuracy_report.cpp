@@ -10,7 +10,7 @@
 #include "apps/pattern_accuracy.hpp"
 #include "apps/pattern_analysis.hpp"
 #include "apps/plot.hpp"
-#include "host/csv.hpp"
+#include "common/csv.hpp"
 
 namespace ceilnav::app {
 namespace fs = std::filesystem;
@@ -112,7 +112,7 @@ void print_pattern_accuracy(const PatternAccuracyOptions& o, size_t frames,
 
 void write_pattern_accuracy_csv(const fs::path& path, const std::vector<PatternAccuracyRow>& rows) {
   AtomicFile f(path);
-  host::CsvWriter w(f.stream());
+  CsvWriter w(f.stream());
   w.row({"d_m",
          "theta_deg",
          "beta_deg",

@@ -7,7 +7,7 @@ namespace ceilnav::app {
 namespace gp = golden::pattern;
 namespace hp = host::pattern;
 
-PatternFrameAnalysis analyse_pattern_frame(host::Device& device, const cv::Mat& grey,
+PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Mat& grey,
                                            const gp::Radiometry& radiometry,
                                            const host::CameraModel& model,
                                            const hp::PoseOptions& pose_options) {

@@ -7,9 +7,9 @@
 #include <opencv2/core.hpp>
 
 #include "apps/commands.hpp"
+#include "drivers/device.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_model.hpp"
-#include "host/device.hpp"
 #include "host/pattern/pattern_frame.hpp"
 #include "host/pattern/pattern_pose.hpp"
 
@@ -24,7 +24,7 @@ struct PatternFrameAnalysis : host::pattern::PatternAnalysis {
 // The frame streams through the device (class LUT, run mask of bars and
 // disc, whole-frame class window); the host works on its class moments and
 // run records (host::pattern::analyse_pattern).
-PatternFrameAnalysis analyse_pattern_frame(host::Device& device, const cv::Mat& grey,
+PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Mat& grey,
                                            const golden::pattern::Radiometry& radiometry,
                                            const host::CameraModel& model,
                                            const host::pattern::PoseOptions& pose_options);

@@ -19,12 +19,12 @@
 #include "apps/atomic_file.hpp"
 #include "apps/commands.hpp"
 #include "apps/pattern_analysis.hpp"
+#include "common/csv.hpp"
+#include "drivers/device.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
-#include "host/csv.hpp"
-#include "host/device.hpp"
 #include "host/frame_io.hpp"
 #include "host/pattern/pattern_frame.hpp"
 #include "host/pattern/pattern_pose.hpp"
@@ -152,7 +152,7 @@ FixRow make_fix(const PatternFrameAnalysis& a, const gp::PatternDatabase& db,
 
 void write_fix_csv(const fs::path& path, const std::vector<FixRow>& rows) {
   AtomicFile f(path);
-  host::CsvWriter w(f.stream());
+  CsvWriter w(f.stream());
   w.row({"frame", "pan_deg", "status", "identity", "code_status", "d_m", "theta_deg", "beta_deg",
          "x_m", "y_m", "heading_deg"});
   for (const FixRow& r : rows) {
@@ -201,7 +201,7 @@ int run_pattern_frames(const PatternOptions& o) {
   make_dir(o.out_dir);
   const host::CameraModel model(camera);
   const gp::Radiometry radiometry;
-  host::Device device(device_options(o.backend));
+  drivers::Device device(device_options(o.backend));
   hp::PoseOptions po = pose_options_for(db.geometry);
   // The camera is taken as level with no swing (up = -y) for the start of
   // the pose; where the code is read the bars measure the actual up (tilt and
@@ -244,7 +244,7 @@ int run_pattern(const PatternOptions& o) {
                  {41, -3.0, -4.0, 1.25, 60 * kDeg}};
   const gp::PatternPlacement station = db.patterns[0];
   const gp::Radiometry radiometry;
-  host::Device device(device_options(o.backend));
+  drivers::Device device(device_options(o.backend));
   const fs::path out(o.out_dir);
   make_dir(out);
   make_dir(out / "frames");
@@ -322,7 +322,7 @@ int run_pattern(const PatternOptions& o) {
   write_fix_csv(out / "pattern.csv", rows);
   {
     AtomicFile f(out / "truth.csv");
-    host::CsvWriter w(f.stream());
+    CsvWriter w(f.stream());
     w.row({"frame", "d_m", "theta_deg", "beta_deg", "identity", "disc_in_view", "code_in_view"});
     for (const auto& [name, t] : truths) {
       w.text(name).fixed(t.d_m, 5).fixed(t.theta_rad / kDeg, 4).fixed(t.beta_rad / kDeg, 4);

@@ -14,7 +14,7 @@ struct PatternOptions {
   std::string database;    // pattern database YAML (with --frames; built-in scene: written)
   double noise_sigma = 3.0;
   uint64_t seed = 1;
-  std::string backend = "fast";  // fast | model | rtl (see host::DeviceOptions)
+  std::string backend = "fast";  // fast | model | rtl (see drivers::DeviceOptions)
   bool quiet = false;
 };
 int run_pattern(const PatternOptions& o);

@@ -4,7 +4,8 @@
 
 namespace ceilnav::app {
 
-void PortProbe::on_edge(uint64_t edge, const host::SimInputs& in, const host::SimOutputs& out) {
+void PortProbe::on_edge(uint64_t edge, const drivers::SimInputs& in,
+                        const drivers::SimOutputs& out) {
   if (!started_) {
     started_ = true;
     irq_prev_ = out.irq;

@@ -11,10 +11,10 @@
 
 #include "apps/atomic_file.hpp"
 #include "apps/profile_report.hpp"
+#include "common/csv.hpp"
+#include "common/limits.hpp"
 #include "host/camera_config_io.hpp"
-#include "host/csv.hpp"
 #include "host/frame_io.hpp"
-#include "stream/limits.hpp"
 
 namespace ceilnav::app {
 namespace fs = std::filesystem;
@@ -123,13 +123,13 @@ void write_outputs(const fs::path& out, const ProfileSummary& main_run,
   // Every file is staged and renamed into place together (OutputFolder).
   OutputFolder folder(out);
   AtomicFile csv(folder.path("profile.csv"));
-  host::CsvWriter frames_csv(csv.stream());
+  CsvWriter frames_csv(csv.stream());
   write_frame_header(frames_csv);
   for (size_t i = 0; i < main_run.frames.size(); ++i) {
     write_frame_row(frames_csv, i, main_run.frames[i]);
   }
   AtomicFile summary(folder.path("profile_summary.csv"));
-  host::CsvWriter summary_csv(summary.stream());
+  CsvWriter summary_csv(summary.stream());
   write_summary_header(summary_csv);
   write_summary_row(summary_csv, main_run, backend);
   for (const ProfileSummary& m : sweep) write_summary_row(summary_csv, m, backend);
@@ -167,11 +167,11 @@ int run_profile(const ProfileOptions& o) {
   };
 
   const auto run_scenario = [&](const std::string& name, const ProfileScenario& sc, size_t n) {
-    host::SimBusOptions bus_opt;
+    drivers::SimBusOptions bus_opt;
     bus_opt.seed = sc.seed;
     bus_opt.run_tready_low_probability = sc.backpressure;
     bus_opt.device_config = sc.device_config;
-    std::unique_ptr<host::SimBus> bus = make_profile_bus(o.backend, bus_opt);
+    std::unique_ptr<drivers::SimBus> bus = make_profile_bus(o.backend, bus_opt);
     ProfileSummary m{name, sc, profile_frames(*bus, frame_at, n, sc, src.camera), {}};
     m.problems = check_profile(m.frames, sc);
     return m;

@@ -15,7 +15,7 @@
 
 #include "ceilnav/regs.hpp"
 #include "common/camera_config.hpp"
-#include "host/sim_bus.hpp"
+#include "drivers/sim_bus.hpp"
 #include "host/status.hpp"
 
 namespace ceilnav::app {
@@ -52,12 +52,12 @@ struct ProfileScenario {
 // The feed of one frame on s_axis_video for the scenario. Every pattern ends
 // with at least kMinFrameBlankingCycles idle cycles (none/random too).
 inline constexpr uint32_t kMinFrameBlankingCycles = 16;
-host::FrameFeed frame_feed(const ProfileScenario& s);
+drivers::FrameFeed frame_feed(const ProfileScenario& s);
 
 // Counts at the device ports over a window of edges (one frame's host cycle:
 // configure, stream, interrupt, readout). Handshakes are taken as AXI defines
 // them: inputs on an edge against the registered outputs before it.
-class PortProbe : public host::SimObserver {
+class PortProbe : public drivers::SimObserver {
  public:
   struct Counts {
     // The frame: from the edge accepting the SOF beat (tvalid && tready &&
@@ -82,7 +82,8 @@ class PortProbe : public host::SimObserver {
   };
 
   explicit PortProbe(int lines_per_frame) : lines_per_frame_(lines_per_frame) {}
-  void on_edge(uint64_t edge, const host::SimInputs& in, const host::SimOutputs& out) override;
+  void on_edge(uint64_t edge, const drivers::SimInputs& in,
+               const drivers::SimOutputs& out) override;
   // The counts since the previous take(); starts a new window.
   Counts take();
 
@@ -130,8 +131,8 @@ struct FrameProfile {
 
 // The SimBus of a backend ("model" or "rtl"); std::runtime_error when this
 // build has no RTL or the name is unknown.
-std::unique_ptr<host::SimBus> make_profile_bus(const std::string& backend,
-                                               const host::SimBusOptions& options);
+std::unique_ptr<drivers::SimBus> make_profile_bus(const std::string& backend,
+                                                  const drivers::SimBusOptions& options);
 
 // Renders frame `index` of the scenario: the demo drive down the corridor
 // (golden/default_scene.hpp) at the scenario's size with `tapes` parallel tapes.
@@ -142,7 +143,7 @@ cv::Mat render_profile_frame(const ProfileScenario& s, const host::CameraConfig&
 // Streams `count` frames through the device on `bus`, one pass each; the
 // threshold of frame i comes from frame i-1's histogram, and frame 0's from a
 // first, unreported pass of frame 0. The bus must be fresh (no observer).
-std::vector<FrameProfile> profile_frames(host::SimBus& bus,
+std::vector<FrameProfile> profile_frames(drivers::SimBus& bus,
                                          const std::function<cv::Mat(size_t)>& frame_at,
                                          size_t count, const ProfileScenario& s,
                                          const host::CameraConfig& camera);

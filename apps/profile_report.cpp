@@ -30,7 +30,7 @@ const cv::Scalar kBlue{200, 90, 20}, kRed{40, 40, 210}, kGreen{40, 150, 40};
 
 }  // namespace
 
-void write_frame_header(host::CsvWriter& w) {
+void write_frame_header(CsvWriter& w) {
   w.row({"frame",
          "cycles",
          "tvalid_cycles",
@@ -59,7 +59,7 @@ void write_frame_header(host::CsvWriter& w) {
          "pose_status"});
 }
 
-void write_frame_row(host::CsvWriter& w, size_t i, const FrameProfile& f) {
+void write_frame_row(CsvWriter& w, size_t i, const FrameProfile& f) {
   w.integer(i).integer(f.cycles).integer(f.tvalid_cycles).integer(f.accepted);
   w.fixed(f.pixels_per_valid_cycle(), 6).integer(f.bubbles).integer(f.pixels_counted);
   w.integer(f.device_cycles).integer(f.eof_to_irq_cycles).integer(f.eof_to_irq_register);
@@ -71,7 +71,7 @@ void write_frame_row(host::CsvWriter& w, size_t i, const FrameProfile& f) {
   w.end_row();
 }
 
-void write_summary_header(host::CsvWriter& w) {
+void write_summary_header(CsvWriter& w) {
   w.row({"scenario",
          "backend",
          "width",
@@ -102,7 +102,7 @@ void write_summary_header(host::CsvWriter& w) {
          "config"});
 }
 
-void write_summary_row(host::CsvWriter& w, const ProfileSummary& m, const std::string& backend) {
+void write_summary_row(CsvWriter& w, const ProfileSummary& m, const std::string& backend) {
   const auto& v = m.frames;
   w.text(m.name).text(backend).integer(m.s.width).integer(m.s.height);
   w.text(to_string(m.s.blanking));

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "apps/profile.hpp"
-#include "host/csv.hpp"
+#include "common/csv.hpp"
 
 namespace ceilnav::app {
 
@@ -56,10 +56,10 @@ double sum_of(const std::vector<FrameProfile>& v, F get) {
   return sum;
 }
 
-void write_frame_header(host::CsvWriter& w);
-void write_frame_row(host::CsvWriter& w, size_t i, const FrameProfile& f);
-void write_summary_header(host::CsvWriter& w);
-void write_summary_row(host::CsvWriter& w, const ProfileSummary& m, const std::string& backend);
+void write_frame_header(CsvWriter& w);
+void write_frame_row(CsvWriter& w, size_t i, const FrameProfile& f);
+void write_summary_header(CsvWriter& w);
+void write_summary_row(CsvWriter& w, const ProfileSummary& m, const std::string& backend);
 
 // The text summary of a run on stdout.
 void print_summary(const ProfileSummary& m, const std::string& backend);

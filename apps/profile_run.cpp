@@ -8,8 +8,9 @@
 #include "apps/commands.hpp"
 #include "apps/profile.hpp"
 #include "apps/progress.hpp"
-#include "apps/rtl_backend.hpp"
 #include "ceilnav/regs.hpp"
+#include "drivers/model_bus.hpp"
+#include "drivers/rtl_backend.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
@@ -17,26 +18,25 @@
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
 #include "host/driver.hpp"
-#include "host/model_bus.hpp"
 #include "host/navigator.hpp"
 #include "host/tape_pose.hpp"
 #include "stream/ceilnav_top.hpp"
 
 namespace ceilnav::app {
 
-std::unique_ptr<host::SimBus> make_profile_bus(const std::string& backend,
-                                               const host::SimBusOptions& options) {
-  if (backend == "model") return std::make_unique<host::ModelBus>(options);
+std::unique_ptr<drivers::SimBus> make_profile_bus(const std::string& backend,
+                                                  const drivers::SimBusOptions& options) {
+  if (backend == "model") return std::make_unique<drivers::ModelBus>(options);
   if (backend == "rtl") {
-    const auto factory = rtl_bus_factory();
+    const auto factory = drivers::rtl_bus_factory();
     if (!factory) {
       throw std::runtime_error("this ceilnav was built without the Verilated RTL backend");
     }
     std::unique_ptr<host::Bus> bus = factory(options);
-    auto* sim = dynamic_cast<host::SimBus*>(bus.get());
+    auto* sim = dynamic_cast<drivers::SimBus*>(bus.get());
     if (sim == nullptr) throw std::logic_error("the RTL backend is not a SimBus");
     bus.release();
-    return std::unique_ptr<host::SimBus>(sim);
+    return std::unique_ptr<drivers::SimBus>(sim);
   }
   throw std::runtime_error("unknown profile backend '" + backend + "' (model or rtl)");
 }
@@ -92,7 +92,7 @@ uint64_t histogram_total(const stream::HistogramResults& h) {
 
 }  // namespace
 
-std::vector<FrameProfile> profile_frames(host::SimBus& bus,
+std::vector<FrameProfile> profile_frames(drivers::SimBus& bus,
                                          const std::function<cv::Mat(size_t)>& frame_at,
                                          size_t count, const ProfileScenario& s,
                                          const host::CameraConfig& camera) {
@@ -102,7 +102,7 @@ std::vector<FrameProfile> profile_frames(host::SimBus& bus,
   driver.identify();
   PortProbe probe(s.height);
   bus.set_observer(&probe);
-  const host::FrameFeed feed = frame_feed(s);
+  const drivers::FrameFeed feed = frame_feed(s);
 
   uint64_t configure_cycles = 0;
   const auto stream_one = [&](const cv::Mat& grey, const host::ThresholdSettings& t) {

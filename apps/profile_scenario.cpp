@@ -38,8 +38,8 @@ VideoTiming vga_like_timing(int width, int height) {
   return t;
 }
 
-host::FrameFeed frame_feed(const ProfileScenario& s) {
-  host::FrameFeed f;
+drivers::FrameFeed frame_feed(const ProfileScenario& s) {
+  drivers::FrameFeed f;
   f.blanking_cycles = kMinFrameBlankingCycles;
   if (s.blanking == Blanking::vga) {
     const VideoTiming t = vga_like_timing(s.width, s.height);

@@ -2,7 +2,7 @@
 
 #include <limits>
 
-#include "host/csv.hpp"
+#include "common/csv.hpp"
 
 namespace ceilnav::app {
 
@@ -12,9 +12,9 @@ std::string frame_status(const host::FrameOutcome& outcome) {
 }
 
 void write_results_header(std::ostream& out) {
-  host::CsvWriter(out).row({"frame", "status", "yaw_rad", "offset_m", "pitch_rad", "vp_u", "vp_v",
-                            "pitch_est_rad", "points_used", "residual_px", "threshold", "passes",
-                            "zenith_yaw_rad", "zenith_offset_m"});
+  CsvWriter(out).row({"frame", "status", "yaw_rad", "offset_m", "pitch_rad", "vp_u", "vp_v",
+                      "pitch_est_rad", "points_used", "residual_px", "threshold", "passes",
+                      "zenith_yaw_rad", "zenith_offset_m"});
 }
 
 void write_results_row(std::ostream& out, const std::string& frame_name,
@@ -28,7 +28,7 @@ void write_results_row(std::ostream& out, const std::string& frame_name,
     return present ? v : std::numeric_limits<double>::quiet_NaN();
   };
   const bool zenith_ok = o.zenith && o.zenith->status == host::Status::ok;
-  host::CsvWriter w(out);
+  CsvWriter w(out);
   w.text(frame_name).text(status);
   w.general(value(ok, p.yaw_rad), kDigits).general(value(ok, p.offset_m), kDigits);
   w.general(value(ok, p.pitch_rad), kDigits);

@@ -12,6 +12,7 @@
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
 #include "apps/results_csv.hpp"
+#include "drivers/device.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/frame_io.hpp"
 #include "host/navigator.hpp"
@@ -24,12 +25,11 @@ int run_frames(const RunOptions& o) {
   const std::vector<fs::path> frames = host::list_png_frames(o.frames_dir);
   check_writable(o.out_csv);
 
-  host::NavigatorOptions nav_opt;
-  configure_backend(nav_opt, o.backend);
-  nav_opt.gap_probability = o.gap_probability;
-  nav_opt.backpressure_probability = o.backpressure_probability;
-  nav_opt.seed = o.seed;
-  host::Navigator nav(camera, nav_opt);
+  drivers::DeviceOptions device = device_options(o.backend);
+  device.gap_probability = o.gap_probability;
+  device.backpressure_probability = o.backpressure_probability;
+  device.seed = o.seed;
+  host::Navigator nav(camera, drivers::make_device(device));
 
   AtomicFile csv(o.out_csv);
   write_results_header(csv.stream());

@@ -21,6 +21,9 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/pipeline_config.hpp"
+#include "common/run_record.hpp"
+#include "drivers/sim_bus.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "golden/pipeline_ref.hpp"
@@ -29,14 +32,11 @@
 #include "host/camera_model.hpp"
 #include "host/driver.hpp"
 #include "host/pattern/pattern_frame.hpp"
-#include "host/sim_bus.hpp"
 #include "host/tape_pose.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
 #include "stream/ceilnav_top.hpp"
-#include "stream/config.hpp"
 #include "stream/pipeline.hpp"
-#include "stream/run_record.hpp"
 #include "stream/run_scanner.hpp"
 
 #if CEILNAV_BENCH_RTL
@@ -138,18 +138,18 @@ BENCHMARK(BM_FastPath)->Unit(benchmark::kMillisecond);
 
 // A non-owning SimDevice on a CeilnavTop, so the host Driver can configure it
 // through AXI-Lite before the timed loop, as it does the RTL.
-class ModelDeviceRef : public host::SimDevice {
+class ModelDeviceRef : public drivers::SimDevice {
  public:
   explicit ModelDeviceRef(stream::CeilnavTop& top) : top_(top) {}
   void reset() override { top_.reset(); }
-  host::SimOutputs outputs() const override {
-    host::SimOutputs o;
+  drivers::SimOutputs outputs() const override {
+    drivers::SimOutputs o;
     o.s_axil = top_.s_axil_out();
     o.m_axis_runs = top_.m_axis_runs();
     o.irq = top_.irq();
     return o;
   }
-  void clock(const host::SimInputs& in) override {
+  void clock(const drivers::SimInputs& in) override {
     top_.clock(in.s_axis_video, in.s_axil, in.m_axis_runs_tready);
   }
 
@@ -159,13 +159,13 @@ class ModelDeviceRef : public host::SimDevice {
 
 // Configures a device through AXI-Lite with the host Driver, streams the
 // first frame and checks its readout against the fast path (untimed).
-bool configure_and_check(std::unique_ptr<host::SimDevice> device, const Workload& w) {
-  host::SimBus bus(std::move(device));
+bool configure_and_check(std::unique_ptr<drivers::SimDevice> device, const Workload& w) {
+  drivers::SimBus bus(std::move(device));
   host::Driver driver(bus);
   driver.identify();
   driver.configure(w.cfg);
   const cv::Mat& f = w.frames.front();
-  bus.queue_frame(f.data, f.cols, f.rows, f.step, host::FrameFeed{});
+  bus.queue_frame(f.data, f.cols, f.rows, f.step, drivers::FrameFeed{});
   const host::FrameReadout r = driver.read_frame();
   return r.results.moments == w.results.front().moments &&
          r.results.histogram == w.results.front().histogram &&
@@ -288,13 +288,13 @@ class Rtl {
 
 // A non-owning SimDevice on the Rtl, so the host Driver can configure it and
 // read a frame back through AXI-Lite before the timed loop.
-class RtlDeviceRef : public host::SimDevice {
+class RtlDeviceRef : public drivers::SimDevice {
  public:
   explicit RtlDeviceRef(Rtl& rtl) : rtl_(rtl) {}
   void reset() override { rtl_.reset(); }
-  host::SimOutputs outputs() const override {
+  drivers::SimOutputs outputs() const override {
     Vtop& t = rtl_.top();
-    host::SimOutputs o;
+    drivers::SimOutputs o;
     o.s_axil.awready = t.s_axil_awready_o;
     o.s_axil.wready = t.s_axil_wready_o;
     o.s_axil.bvalid = t.s_axil_bvalid_o;
@@ -311,7 +311,7 @@ class RtlDeviceRef : public host::SimDevice {
     o.irq = t.irq_o;
     return o;
   }
-  void clock(const host::SimInputs& in) override {
+  void clock(const drivers::SimInputs& in) override {
     Vtop& t = rtl_.top();
     t.s_axil_awaddr_i = in.s_axil.awaddr;
     t.s_axil_awvalid_i = in.s_axil.awvalid;

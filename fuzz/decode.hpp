@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "common/camera_config.hpp"
+#include "common/run_record.hpp"
 #include "fuzz/byte_reader.hpp"
-#include "stream/run_record.hpp"
 
 namespace ceilnav::fuzz {
 

@@ -27,11 +27,11 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/limits.hpp"
 #include "fuzz/check.hpp"
 #include "fuzz/temp_file.hpp"
 #include "host/auto_threshold.hpp"
 #include "host/frame_io.hpp"
-#include "stream/limits.hpp"
 #include "stream/pipeline.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -31,13 +31,13 @@
 #include <vector>
 
 #include "common/camera_config.hpp"
+#include "common/run_record.hpp"
 #include "fuzz/byte_reader.hpp"
 #include "fuzz/check.hpp"
 #include "fuzz/decode.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/camera_model.hpp"
 #include "host/pattern/pattern_frame.hpp"
-#include "stream/run_record.hpp"
 
 namespace {
 

@@ -37,13 +37,13 @@
 #include <optional>
 #include <vector>
 
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
+#include "common/run_record.hpp"
 #include "fuzz/byte_reader.hpp"
 #include "fuzz/check.hpp"
 #include "stream/beat.hpp"
-#include "stream/config.hpp"
 #include "stream/pipeline.hpp"
-#include "stream/results.hpp"
-#include "stream/run_record.hpp"
 
 namespace {
 

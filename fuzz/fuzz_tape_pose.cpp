@@ -31,6 +31,8 @@
 #include <vector>
 
 #include "common/camera_config.hpp"
+#include "common/results.hpp"
+#include "common/run_record.hpp"
 #include "fuzz/byte_reader.hpp"
 #include "fuzz/check.hpp"
 #include "fuzz/decode.hpp"
@@ -39,8 +41,6 @@
 #include "host/flow_height.hpp"
 #include "host/status.hpp"
 #include "host/tape_pose.hpp"
-#include "stream/results.hpp"
-#include "stream/run_record.hpp"
 
 namespace {
 

@@ -4,8 +4,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "stream/config.hpp"
-#include "stream/results.hpp"
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
 
 namespace ceilnav::golden {
 

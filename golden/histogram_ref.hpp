@@ -3,7 +3,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "stream/results.hpp"
+#include "common/results.hpp"
 
 namespace ceilnav::golden {
 

@@ -4,7 +4,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "stream/results.hpp"
+#include "common/results.hpp"
 
 namespace ceilnav::golden {
 

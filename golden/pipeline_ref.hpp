@@ -8,9 +8,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "stream/config.hpp"
-#include "stream/results.hpp"
-#include "stream/run_record.hpp"
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
+#include "common/run_record.hpp"
 
 namespace ceilnav::golden {
 

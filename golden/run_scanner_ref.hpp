@@ -7,7 +7,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "stream/run_record.hpp"
+#include "common/run_record.hpp"
 
 namespace ceilnav::golden {
 
@@ -19,7 +19,7 @@ struct RunScanParams {
 
 // remap8u, mask8u: CV_8UC1 of one size; mask nonzero = 1. Runs of mask = 1 on
 // each row, top to bottom and left to right, with sum_w and sum_xw over the run
-// plus one margin pixel each side clipped to the row (see stream/run_record.hpp),
+// plus one margin pixel each side clipped to the row (see common/run_record.hpp),
 // w = max(0, remap - background_level). Runs shorter than min_run_length are
 // skipped; after max_runs_per_row runs on a row the rest are counted in
 // *dropped_row_limit (if given) and not returned.

@@ -1,5 +1,7 @@
 #include "golden/scene.hpp"
 
+#include "common/csv.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -124,26 +126,6 @@ FrameTruth truth_for(const host::CameraConfig& camera, const CeilingScene& scene
   return truth;
 }
 
-namespace {
-
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (char c : text) {
-    if (c == '"') quoted += '"';
-    quoted += c;
-  }
-  return quoted + "\"";
-}
-
-std::string number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", value);
-  return buffer;
-}
-
-}  // namespace
-
 void write_truth_csv(const std::string& path,
                      const std::vector<std::pair<std::string, FrameTruth>>& rows) {
   const std::string tmp_path = path + ".tmp";
@@ -153,11 +135,20 @@ void write_truth_csv(const std::string& path,
       throw std::runtime_error("write_truth_csv: cannot open '" + tmp_path +
                                "' for writing: " + std::strerror(errno));
     }
-    out << "frame,yaw_rad,offset_m,pitch_rad,vp_u_px,vp_v_px,vp_finite,ceiling_above_camera_m\n";
+    CsvWriter csv(out);
+    csv.row({"frame", "yaw_rad", "offset_m", "pitch_rad", "vp_u_px", "vp_v_px", "vp_finite",
+             "ceiling_above_camera_m"});
+    constexpr int kExact = 17;  // significant digits: an exact round trip of a double
     for (const auto& [name, t] : rows) {
-      out << csv_field(name) << ',' << number(t.yaw_rad) << ',' << number(t.offset_m) << ','
-          << number(t.pitch_rad) << ',' << number(t.vp_u_px) << ',' << number(t.vp_v_px) << ','
-          << (t.vp_finite ? 1 : 0) << ',' << number(t.ceiling_above_camera_m) << '\n';
+      csv.text(name)
+          .general(t.yaw_rad, kExact)
+          .general(t.offset_m, kExact)
+          .general(t.pitch_rad, kExact)
+          .general(t.vp_u_px, kExact)
+          .general(t.vp_v_px, kExact)
+          .integer(t.vp_finite)
+          .general(t.ceiling_above_camera_m, kExact)
+          .end_row();
     }
     out.flush();
     if (!out) {

@@ -5,7 +5,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "stream/config.hpp"
+#include "common/pipeline_config.hpp"
 
 namespace ceilnav::golden {
 

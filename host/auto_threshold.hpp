@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-#include "stream/config.hpp"
-#include "stream/results.hpp"
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
 
 namespace ceilnav::host {
 

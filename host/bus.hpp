@@ -1,7 +1,9 @@
 // The host's view of the device: 32-bit register reads/writes, the interrupt
-// line, and (for simulation backends) the camera feed and the run stream
-// consumer. One Driver runs on every backend: the C++ model (ModelBus), the
-// Verilated RTL, a memory-mapped device.
+// line, the run stream's consumer (a DMA in a real system) and the device
+// clock. One Driver runs on every backend: the C++ model and the Verilated RTL
+// (drivers::SimBus and its devices), a memory-mapped device. Feeding camera
+// frames is not the host's business on hardware (the camera does it); the
+// simulation backends offer it themselves (drivers::SimBus::queue_frame).
 #pragma once
 
 #include <cstddef>
@@ -10,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "stream/results.hpp"
+#include "common/results.hpp"
 
 namespace ceilnav::host {
 
@@ -18,13 +20,6 @@ namespace ceilnav::host {
 class BusError : public std::runtime_error {
  public:
   explicit BusError(const std::string& what) : std::runtime_error(what) {}
-};
-
-// How a queued frame is streamed into s_axis_video.
-struct FrameFeed {
-  double gap_probability = 0.0;  // before every pixel, idle cycles while a coin with P = this hits
-  uint32_t blanking_cycles = 0;  // idle cycles after the frame's last pixel
-  uint32_t line_blanking_cycles = 0;  // idle cycles after every line but the last
 };
 
 class Bus {
@@ -40,11 +35,6 @@ class Bus {
   // Lets the device run for `cycles` clocks.
   virtual void idle(uint64_t cycles) = 0;
 
-  // Appends one frame (8-bit grey, row stride in bytes) to the camera feed;
-  // simulation backends stream it one beat per clock, behind frames queued
-  // earlier, while the host's transactions run.
-  virtual void queue_frame(const uint8_t* grey, int width, int height, size_t stride_bytes,
-                           const FrameFeed& feed) = 0;
   // Beats (runs and trailers) the m_axis_runs consumer (a DMA in a real
   // system) has received since the last call, in order.
   virtual std::vector<stream::RunBeat> take_run_stream() = 0;

@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "ceilnav/regs.hpp"
-#include "stream/version.hpp"
+#include "common/version.hpp"
 
 namespace ceilnav::host {
 

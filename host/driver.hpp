@@ -6,10 +6,9 @@
 #include <deque>
 #include <vector>
 
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
 #include "host/bus.hpp"
-#include "stream/config.hpp"
-#include "stream/pipeline.hpp"
-#include "stream/results.hpp"
 
 namespace ceilnav::host {
 

@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "stream/limits.hpp"
+#include "common/limits.hpp"
 
 namespace ceilnav::host {
 namespace fs = std::filesystem;

@@ -3,26 +3,15 @@
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+#include <utility>
 
 namespace ceilnav::host {
 
-namespace {
-
-DeviceOptions device_options(const NavigatorOptions& o) {
-  DeviceOptions d;
-  d.backend = o.backend;
-  d.gap_probability = o.gap_probability;
-  d.backpressure_probability = o.backpressure_probability;
-  d.seed = o.seed;
-  d.fifo_depth = o.fifo_depth;
-  d.bus_factory = o.bus_factory;
-  return d;
+Navigator::Navigator(const CameraConfig& camera, std::unique_ptr<FrameProcessor> device,
+                     const NavigatorOptions& options)
+    : camera_(camera), model_(camera), options_(options), device_(std::move(device)) {
+  if (!device_) throw std::invalid_argument("navigator: no device");
 }
-
-}  // namespace
-
-Navigator::Navigator(const CameraConfig& camera, const NavigatorOptions& options)
-    : camera_(camera), model_(camera), options_(options), device_(device_options(options)) {}
 
 stream::FrameResults Navigator::run_pipeline(const cv::Mat& grey, const ThresholdSettings& s,
                                              std::vector<stream::RunRecord>& runs,
@@ -34,7 +23,7 @@ stream::FrameResults Navigator::run_pipeline(const cv::Mat& grey, const Threshol
   cfg.max_runs_per_row = options_.max_runs_per_row;
   cfg.hist_source_remap = false;
   cfg = apply_threshold(cfg, s);
-  return device_.process(grey, cfg, runs, cycles);
+  return device_->process(grey, cfg, runs, cycles);
 }
 
 FrameOutcome Navigator::process(const cv::Mat& grey) {

@@ -1,4 +1,4 @@
-// The host's per-frame loop on the device model: program the threshold LUT from
+// The host's per-frame loop on the device: program the threshold LUT from
 // the histogram, stream the frame through the pipeline, collect the runs and
 // turn them into a pose.
 //
@@ -10,7 +10,6 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -18,14 +17,12 @@
 #include <opencv2/core.hpp>
 
 #include "common/camera_config.hpp"
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
 #include "host/auto_threshold.hpp"
-#include "host/bus.hpp"
 #include "host/camera_model.hpp"
-#include "host/device.hpp"
-#include "host/driver.hpp"
-#include "host/sim_bus.hpp"
+#include "host/frame_processor.hpp"
 #include "host/tape_pose.hpp"
-#include "stream/pipeline.hpp"
 
 namespace ceilnav::host {
 
@@ -35,14 +32,6 @@ struct NavigatorOptions {
   int threshold_tolerance_grey = 4;  // tunable: re-run a frame when the threshold moves more
   uint16_t min_run_length = 2;       // tunable: single-pixel runs are noise
   uint16_t max_runs_per_row = 16;
-  uint32_t fifo_depth = 1024;
-  // The device backend and its stream timing: see DeviceOptions (host/device.hpp).
-  Backend backend = Backend::fast;
-  double gap_probability = 0.0;
-  double backpressure_probability = 0.0;
-  uint64_t seed = 1;
-  // Creates the Bus for Backend::rtl (and, if set, for Backend::model).
-  std::function<std::unique_ptr<Bus>(const SimBusOptions&)> bus_factory;
 };
 
 struct FrameOutcome {
@@ -57,7 +46,10 @@ struct FrameOutcome {
 
 class Navigator {
  public:
-  Navigator(const CameraConfig& camera, const NavigatorOptions& options = {});
+  // `device` runs the frames: drivers::make_device() for one of the
+  // simulated backends, or a program's own FrameProcessor on hardware.
+  Navigator(const CameraConfig& camera, std::unique_ptr<FrameProcessor> device,
+            const NavigatorOptions& options = {});
 
   // `grey` must be CV_8UC1 of the configured size (std::invalid_argument otherwise).
   FrameOutcome process(const cv::Mat& grey);
@@ -73,7 +65,7 @@ class Navigator {
   CameraConfig camera_;
   CameraModel model_;
   NavigatorOptions options_;
-  Device device_;
+  std::unique_ptr<FrameProcessor> device_;
   std::optional<ThresholdSettings> previous_;
 };
 

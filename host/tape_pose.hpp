@@ -15,10 +15,10 @@
 #include <Eigen/Core>
 
 #include "common/camera_config.hpp"
+#include "common/results.hpp"
+#include "common/run_record.hpp"
 #include "host/camera_model.hpp"
 #include "host/status.hpp"
-#include "stream/results.hpp"
-#include "stream/run_record.hpp"
 
 namespace ceilnav::host {
 

@@ -14,10 +14,10 @@
 #include <Eigen/Core>
 
 #include "common/camera_config.hpp"
+#include "common/run_record.hpp"
 #include "host/camera_model.hpp"
 #include "host/status.hpp"
 #include "host/tape_pose.hpp"
-#include "stream/run_record.hpp"
 
 namespace ceilnav::host::tape_steps {
 

@@ -37,7 +37,7 @@ struct LutBeat {
   PixelBeat pix;      // delayed copy of the pixel beat (grey = camera pixel)
   uint8_t remap = 0;  // LUT[grey] bits 7:0
   bool mask = false;  // LUT[grey] bit 8
-  uint8_t cls = 0;    // LUT[grey] bits 10:9: PixelClass (stream/config.hpp)
+  uint8_t cls = 0;    // LUT[grey] bits 10:9: PixelClass (common/pipeline_config.hpp)
 };
 
 }  // namespace ceilnav::stream

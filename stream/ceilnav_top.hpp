@@ -11,11 +11,11 @@
 
 #include "ceilnav/regblock.hpp"
 #include "ceilnav/regs.hpp"
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
-#include "stream/config.hpp"
 #include "stream/pipeline.hpp"
-#include "stream/results.hpp"
 
 namespace ceilnav::stream {
 

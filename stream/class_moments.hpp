@@ -10,11 +10,11 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "common/limits.hpp"
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
 #include "stream/beat.hpp"
-#include "stream/config.hpp"
-#include "stream/limits.hpp"
 #include "stream/moment_gen.hpp"
-#include "stream/results.hpp"
 
 namespace ceilnav::stream {
 

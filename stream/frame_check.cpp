@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "stream/limits.hpp"
+#include "common/limits.hpp"
 
 namespace ceilnav::stream {
 namespace {

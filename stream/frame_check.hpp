@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
+#include "common/results.hpp"
 #include "stream/beat.hpp"
-#include "stream/results.hpp"
 
 namespace ceilnav::stream {
 

@@ -10,9 +10,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "common/limits.hpp"
+#include "common/results.hpp"
 #include "stream/beat.hpp"
-#include "stream/limits.hpp"
-#include "stream/results.hpp"
 
 namespace ceilnav::stream {
 

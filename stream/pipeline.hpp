@@ -8,31 +8,18 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
+#include "common/run_record.hpp"
 #include "stream/beat.hpp"
 #include "stream/class_moments.hpp"
-#include "stream/config.hpp"
 #include "stream/frame_check.hpp"
 #include "stream/histogram.hpp"
 #include "stream/moment_gen.hpp"
-#include "stream/results.hpp"
-#include "stream/run_record.hpp"
 #include "stream/run_scanner.hpp"
 #include "stream/thresh_lut.hpp"
 
 namespace ceilnav::stream {
-
-// The result registers of one frame, as the host reads them after frame_done.
-struct FrameResults {
-  uint32_t frame_index = 0;  // frames_ok - 1 at this frame's end: 0-based count of good frames
-  bool valid = false;        // false until the first frame is published after reset
-  HistogramResults histogram;
-  MomentResults moments;
-  ClassMomentResults class_moments;  // per pixel class 1..3 inside the class window
-  RunStats run_stats;
-  FrameErrorCounters errors;     // frame_check's counters as of this frame's EOF pixel
-  uint64_t cycles_in_frame = 0;  // clock cycles from the SOF pixel to the EOF pixel, inclusive
-  friend bool operator==(const FrameResults&, const FrameResults&) = default;
-};
 
 class Pipeline {
  public:

@@ -7,11 +7,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/limits.hpp"
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
+#include "common/run_record.hpp"
 #include "stream/beat.hpp"
-#include "stream/config.hpp"
-#include "stream/limits.hpp"
-#include "stream/results.hpp"
-#include "stream/run_record.hpp"
 
 namespace ceilnav::stream {
 

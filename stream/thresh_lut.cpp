@@ -1,6 +1,6 @@
 #include "stream/thresh_lut.hpp"
 
-#include "stream/limits.hpp"
+#include "common/limits.hpp"
 
 namespace ceilnav::stream {
 

@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "common/pipeline_config.hpp"
 #include "stream/beat.hpp"
-#include "stream/config.hpp"
 
 namespace ceilnav::stream {
 

@@ -13,12 +13,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "ceilnav/regs.hpp"
+#include "common/pipeline_config.hpp"
+#include "drivers/axi_lite_master.hpp"
 #include "golden/class_moments_ref.hpp"
 #include "golden/thresh_lut_ref.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
 #include "stream/ceilnav_top.hpp"
-#include "stream/config.hpp"
 #include "stream/run_scanner.hpp"
 #include "testbench/cosim_common.hpp"
 #include "testbench/top_cosim.hpp"
@@ -27,8 +28,8 @@ namespace ceilnav::testbench {
 namespace {
 
 namespace r = regs;
+using drivers::AxiLiteMaster;
 using stream::AxiLiteIn;
-using stream::AxiLiteMaster;
 using stream::VideoBeat;
 
 // One bus transaction of the host script. `sync`: the video source waits for

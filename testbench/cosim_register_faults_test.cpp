@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "ceilnav/regs.hpp"
+#include "common/pipeline_config.hpp"
+#include "common/results.hpp"
+#include "common/run_record.hpp"
 #include "stream/beat.hpp"
 #include "stream/ceilnav_top.hpp"
-#include "stream/config.hpp"
 #include "stream/pipeline.hpp"
-#include "stream/results.hpp"
-#include "stream/run_record.hpp"
 #include "testbench/cosim_common.hpp"
 #include "testbench/top_cosim.hpp"
 

@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/pipeline_config.hpp"
 #include "stream/beat.hpp"
-#include "stream/config.hpp"
 #include "stream/tests/video_source.hpp"
 #include "stream/thresh_lut.hpp"
 #include "testbench/cosim_common.hpp"

@@ -13,10 +13,11 @@
 
 #include "ceilnav/regs.hpp"
 
+#include "common/run_record.hpp"
+#include "drivers/axi_lite_master.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
 #include "stream/ceilnav_top.hpp"
-#include "stream/run_record.hpp"
 #include "stream/run_scanner.hpp"
 #include "testbench/cosim_common.hpp"
 
@@ -69,7 +70,7 @@ class TopCosim {
   explicit TopCosim(uint64_t seed, const char* name = "ceilnav_top")
       : sim_(name, seed),
         model_(regs::kRunFifoDepth, kTopConfig),
-        master_(seed ^ 0xA5A5A5A5u, stream::AxiLiteMaster::Timing{0.3, 0.3}) {
+        master_(seed ^ 0xA5A5A5A5u, drivers::AxiLiteMaster::Timing{0.3, 0.3}) {
     // The datapath's reset is rst_ni & ~soft_rst_q. With the random power-up
     // state soft_rst_q may start at 1, and then the first rst_ni fall makes no
     // negedge on the datapath reset in the simulator (real reset is a level):
@@ -111,7 +112,7 @@ class TopCosim {
   }
 
   Cosim<VDeviceTop>& sim() { return sim_; }
-  stream::AxiLiteMaster& master() { return master_; }
+  drivers::AxiLiteMaster& master() { return master_; }
   const stream::CeilnavTop& model() const { return model_; }
 
  private:
@@ -143,7 +144,7 @@ class TopCosim {
 
   Cosim<VDeviceTop> sim_;
   stream::CeilnavTop model_;
-  stream::AxiLiteMaster master_;
+  drivers::AxiLiteMaster master_;
 };
 
 // A scripted device bench on TopCosim: a video queue (one beat per edge), a

@@ -8,7 +8,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "apps/rtl_backend.hpp"
+#include "drivers/rtl_backend.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "host/navigator.hpp"
@@ -64,18 +64,18 @@ TEST(Backends, FastModelAndRtlAgreeOnPhotosAndRenderedFrames) {
   ASSERT_GE(frames.size(), 6u);
   const host::CameraConfig cam = camera_320x240();
 
-  host::NavigatorOptions fast_opt;
-  host::NavigatorOptions model_opt;
-  model_opt.backend = host::Backend::model;
+  drivers::DeviceOptions model_opt;
+  model_opt.backend = drivers::Backend::model;
   model_opt.gap_probability = 0.2;
   model_opt.backpressure_probability = 0.5;
   model_opt.seed = 17;
-  host::NavigatorOptions rtl_opt = model_opt;
-  rtl_opt.backend = host::Backend::rtl;
-  rtl_opt.bus_factory = rtl_bus_factory();
+  drivers::DeviceOptions rtl_opt = model_opt;
+  rtl_opt.backend = drivers::Backend::rtl;
+  rtl_opt.bus_factory = drivers::rtl_bus_factory();
   ASSERT_TRUE(static_cast<bool>(rtl_opt.bus_factory)) << "this build has no RTL backend";
 
-  host::Navigator fast(cam, fast_opt), model(cam, model_opt), rtl(cam, rtl_opt);
+  host::Navigator fast(cam, drivers::make_device()), model(cam, drivers::make_device(model_opt)),
+      rtl(cam, drivers::make_device(rtl_opt));
   int ok_frames = 0;
   for (size_t i = 0; i < frames.size(); ++i) {
     const host::FrameOutcome f = fast.process(frames[i]);

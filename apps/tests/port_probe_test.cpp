@@ -15,15 +15,15 @@ namespace {
 struct Edges {
   PortProbe probe;
   uint64_t edge = 100;
-  host::SimOutputs out{};
+  drivers::SimOutputs out{};
   explicit Edges(int lines) : probe(lines) {}
-  void clock(const host::SimInputs& in) { probe.on_edge(edge++, in, out); }
+  void clock(const drivers::SimInputs& in) { probe.on_edge(edge++, in, out); }
   void idle(int n) {
     for (int i = 0; i < n; ++i) clock({});
   }
   // One pixel; tready as given.
   void pixel(bool sof, bool eol, bool tready = true) {
-    host::SimInputs in{};
+    drivers::SimInputs in{};
     in.s_axis_video.tvalid = true;
     in.s_axis_video.tuser = sof;
     in.s_axis_video.tlast = eol;
@@ -103,7 +103,7 @@ TEST(PortProbe, IrqHighBeforeTheFrameEndsIsNoRise) {
 
 TEST(PortProbe, RunStreamAndRegisterHandshakes) {
   Edges e(1);
-  host::SimInputs in{};
+  drivers::SimInputs in{};
   e.out.m_axis_runs.tvalid = true;
   in.m_axis_runs_tready = true;
   e.clock(in);  // a beat

@@ -58,7 +58,7 @@ TEST(ProfileReport, SummaryRowMatchesItsHeader) {
   m.frames[1].accepted = 30;  // II 0.75 on the second frame
   m.problems = {"one"};
   std::ostringstream out;
-  host::CsvWriter w(out);
+  CsvWriter w(out);
   write_summary_header(w);
   write_summary_row(w, m, "model");
   std::istringstream lines(out.str());

@@ -26,7 +26,7 @@ struct Case {
 std::vector<FrameProfile> run(const std::string& backend, const ProfileScenario& s,
                               const host::CameraConfig& cam, const std::vector<cv::Mat>& frames,
                               const regs::Config& config) {
-  host::SimBusOptions opt;
+  drivers::SimBusOptions opt;
   opt.seed = s.seed;
   opt.device_config = config;
   opt.run_tready_low_probability = s.backpressure;

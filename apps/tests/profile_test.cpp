@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "apps/plot.hpp"
+#include "drivers/model_bus.hpp"
 #include "host/driver.hpp"
-#include "host/model_bus.hpp"
 #include "stream/ceilnav_top.hpp"
 
 namespace ceilnav::app {
@@ -39,16 +39,16 @@ std::vector<cv::Mat> render(const ProfileScenario& s, const host::CameraConfig& 
 }
 
 // A ModelBus that counts the driver's register accesses itself.
-class CountingBus : public host::ModelBus {
+class CountingBus : public drivers::ModelBus {
  public:
-  using host::ModelBus::ModelBus;
+  using drivers::ModelBus::ModelBus;
   uint32_t read32(uint32_t addr) override {
     ++reads;
-    return host::ModelBus::read32(addr);
+    return drivers::ModelBus::read32(addr);
   }
   void write32(uint32_t addr, uint32_t value) override {
     ++writes;
-    host::ModelBus::write32(addr, value);
+    drivers::ModelBus::write32(addr, value);
   }
   uint64_t reads = 0, writes = 0;
 };
@@ -61,7 +61,7 @@ struct ModelRun {
 ModelRun profile_on_model(const ProfileScenario& s, size_t n) {
   const host::CameraConfig cam = profile_camera(s);
   const std::vector<cv::Mat> frames = render(s, cam, n);
-  host::SimBusOptions opt;
+  drivers::SimBusOptions opt;
   opt.seed = s.seed;
   opt.run_tready_low_probability = s.backpressure;
   CountingBus bus(opt);
@@ -165,21 +165,21 @@ TEST(Profile, RandomGapsAndBackPressureKeepIiOne) {
 }
 
 // The model with tready forced low on every 7th edge (a pipeline that stalls).
-class StallingDevice : public host::SimDevice {
+class StallingDevice : public drivers::SimDevice {
  public:
   void reset() override {
     top_.reset();
     n_ = 0;
   }
-  host::SimOutputs outputs() const override {
-    host::SimOutputs o;
+  drivers::SimOutputs outputs() const override {
+    drivers::SimOutputs o;
     o.s_axil = top_.s_axil_out();
     o.m_axis_runs = top_.m_axis_runs();
     o.irq = top_.irq();
     o.s_axis_video_tready = n_ % 7 != 3;
     return o;
   }
-  void clock(const host::SimInputs& in) override {
+  void clock(const drivers::SimInputs& in) override {
     const bool ready = outputs().s_axis_video_tready;
     top_.clock(ready ? in.s_axis_video : stream::VideoBeat{}, in.s_axil, in.m_axis_runs_tready);
     ++n_;
@@ -194,7 +194,7 @@ TEST(Profile, StallsAreCountedAsBubblesAndReported) {
   const ProfileScenario s = small(Blanking::none);
   const host::CameraConfig cam = profile_camera(s);
   const std::vector<cv::Mat> frames = render(s, cam, 2);
-  host::SimBus bus(std::make_unique<StallingDevice>());
+  drivers::SimBus bus(std::make_unique<StallingDevice>());
   const std::vector<FrameProfile> p = profile_frames(
       bus, [&](size_t i) { return frames[i]; }, frames.size(), s, cam);
   for (const FrameProfile& f : p) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/camera_config.hpp"
+#include "drivers/device.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/navigator.hpp"
@@ -29,9 +30,9 @@ int main() {
   const cv::Mat frame =
       golden::render_frame(camera, golden::single_tape_scene(camera.tape_width_m), truth, {});
 
-  host::NavigatorOptions options;
-  options.backend = host::Backend::model;  // the C++ cycle model behind its registers
-  host::Navigator navigator(camera, options);
+  drivers::DeviceOptions device;
+  device.backend = drivers::Backend::model;  // the C++ cycle model behind its registers
+  host::Navigator navigator(camera, drivers::make_device(device));
   const host::FrameOutcome out = navigator.process(frame);
 
   std::printf("device: %llu cycles, %zu runs, %d pass(es)\n",

@@ -11,7 +11,6 @@
 #include <stdexcept>
 
 #include "golden/scene.hpp"
-#include "stream/pipeline.hpp"
 
 namespace ceilnav::golden::pattern {
 namespace {
@@ -346,15 +345,6 @@ stream::PipelineConfig device_config(int width, int height, const Radiometry& r)
 uint32_t bar_run_min_weight(const Radiometry& r) {
   const ClassThresholds t = class_thresholds(r);
   return static_cast<uint32_t>(255 - (t.bar_below - 1) - bar_run_background(r));
-}
-
-std::vector<stream::RunRecord> bar_runs(const cv::Mat& grey, const Radiometry& r) {
-  if (grey.type() != CV_8UC1) throw std::invalid_argument("bar_runs: needs an 8-bit grey frame");
-  stream::Pipeline pipeline;
-  pipeline.set_config(device_config(grey.cols, grey.rows, r));
-  std::vector<stream::RunRecord> runs;
-  pipeline.process_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], &runs);
-  return runs;
 }
 
 PatternView look_at(const Eigen::Vector3d& centre, const Eigen::Vector3d& target,

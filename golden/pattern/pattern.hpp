@@ -21,10 +21,10 @@
 #include <opencv2/core.hpp>
 
 #include "common/camera_config.hpp"
+#include "common/pattern/disc_coverage_model.hpp"
+#include "common/pipeline_config.hpp"
+#include "common/run_record.hpp"
 #include "golden/renderer.hpp"
-#include "host/pattern/disc_coverage.hpp"
-#include "stream/config.hpp"
-#include "stream/run_record.hpp"
 
 namespace ceilnav::golden::pattern {
 
@@ -137,10 +137,6 @@ uint32_t disc_coverage_weight(const Radiometry& r);
 // pixel values, as finish_render renders it, or a continuous PSF).
 host::pattern::DiscCoverageModel disc_coverage_model(const Radiometry& r, double noise_grey,
                                                      double blur_sigma_px, bool blur_on_pixels);
-
-// The run records of a grey frame with device_config (stream::Pipeline's
-// frame-at-a-time path): bar runs and disc runs.
-std::vector<stream::RunRecord> bar_runs(const cv::Mat& grey, const Radiometry& r);
 
 // Camera pose in the pattern frame: X_cam = R (X_pat - C), OpenCV camera axes.
 struct PatternView {

@@ -538,6 +538,9 @@ TEST(GoldenRenderer, TruthCsvRoundTripAndFailure) {
   EXPECT_EQ(std::stod(cells[4]), a.vp_u_px);
   EXPECT_EQ(cells[6], "1");
   EXPECT_EQ(line2.rfind("\"odd,name\",", 0), 0u);
+  // b looks at the zenith: no vanishing point, NaN u and v are empty fields.
+  ASSERT_FALSE(b.vp_finite);
+  EXPECT_NE(line2.find(",,,0,"), std::string::npos) << line2;
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
 
   const std::string bad_path = (dir / "missing_dir" / "truth.csv").string();

@@ -8,9 +8,9 @@
 #include <span>
 #include <vector>
 
+#include "common/run_record.hpp"
 #include "host/camera_model.hpp"
 #include "host/pattern/pattern_pose_types.hpp"
-#include "stream/run_record.hpp"
 
 namespace ceilnav::host::pattern {
 

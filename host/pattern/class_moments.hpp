@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <span>
 
-#include "stream/results.hpp"
-#include "stream/run_record.hpp"
+#include "common/results.hpp"
+#include "common/run_record.hpp"
 
 namespace ceilnav::host::pattern {
 

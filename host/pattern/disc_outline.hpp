@@ -8,10 +8,10 @@
 #include <utility>
 #include <vector>
 
+#include "common/run_record.hpp"
 #include "host/camera_model.hpp"
 #include "host/pattern/class_moments.hpp"
 #include "host/pattern/ellipse_from_moments.hpp"
-#include "stream/run_record.hpp"
 
 namespace ceilnav::host::pattern {
 

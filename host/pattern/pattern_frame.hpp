@@ -9,10 +9,10 @@
 #include <optional>
 #include <span>
 
+#include "common/run_record.hpp"
 #include "host/camera_model.hpp"
 #include "host/pattern/disc_coverage.hpp"
 #include "host/pattern/pattern_pose.hpp"
-#include "stream/run_record.hpp"
 
 namespace ceilnav::host::pattern {
 

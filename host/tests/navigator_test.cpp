@@ -1,6 +1,7 @@
 // The whole chain on rendered frames with known pose: renderer -> device model
 // (threshold from the device histogram, LUT, runs) -> host pose maths.
 #include "host/navigator.hpp"
+#include "drivers/device.hpp"
 
 #include <gtest/gtest.h>
 
@@ -64,7 +65,7 @@ Errors sweep(int width, int height, const std::vector<double>& pitches, bool dis
       rp.noise_seed = seed + static_cast<uint64_t>(k);
       const cv::Mat frame = golden::render_frame(cam, scene, pose, rp);
       const golden::FrameTruth truth = golden::truth_for(cam, scene, pose);
-      Navigator nav(cam);
+      Navigator nav(cam, drivers::make_device());
       const FrameOutcome r = nav.process(frame);
       if (r.pose.status != Status::ok) {
         ++e.failed;
@@ -117,7 +118,7 @@ TEST(NavigatorRendered, ZenithMomentsAgreeWithTheCentreLine) {
   rp.tape_gain = 1200.0;
   rp.noise_sigma_grey = 2.0;
   const cv::Mat frame = golden::render_frame(cam, scene, pose, rp);
-  Navigator nav(cam);
+  Navigator nav(cam, drivers::make_device());
   const FrameOutcome r = nav.process(frame);
   ASSERT_EQ(r.pose.status, Status::ok);
   ASSERT_TRUE(r.zenith.has_value());
@@ -135,13 +136,12 @@ TEST(NavigatorRendered, ClockedModelGivesTheFastPathResultsUnderGapsAndBackPress
   corridor.second_tape = true;
   corridor.second_tape_y_m = 0.8;
   const golden::CeilingScene scene = golden::corridor_scene(0.05, corridor);
-  NavigatorOptions fast_opt;
-  NavigatorOptions clocked_opt;
-  clocked_opt.backend = Backend::model;
+  drivers::DeviceOptions clocked_opt;
+  clocked_opt.backend = drivers::Backend::model;
   clocked_opt.gap_probability = 0.3;
   clocked_opt.backpressure_probability = 0.6;
   clocked_opt.seed = 9;
-  Navigator fast(cam, fast_opt), clocked(cam, clocked_opt);
+  Navigator fast(cam, drivers::make_device()), clocked(cam, drivers::make_device(clocked_opt));
   for (int i = 0; i < 4; ++i) {
     golden::RenderParams rp;
     rp.noise_seed = 50u + static_cast<uint64_t>(i);
@@ -161,7 +161,7 @@ TEST(NavigatorRendered, ClockedModelGivesTheFastPathResultsUnderGapsAndBackPress
 
 TEST(NavigatorRendered, NoTapeBlackAndSaturatedFramesGiveAStatusAndTheNextFrameIsRight) {
   const CameraConfig cam = camera(320, 240, 45.0, false);
-  Navigator nav(cam);
+  Navigator nav(cam, drivers::make_device());
   const cv::Mat black(240, 320, CV_8UC1, cv::Scalar(0));
   const cv::Mat white(240, 320, CV_8UC1, cv::Scalar(255));
   cv::Mat noise(240, 320, CV_8UC1);

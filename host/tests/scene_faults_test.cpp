@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/device.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/navigator.hpp"
@@ -127,7 +128,7 @@ void expect_recovers(Navigator& nav, const std::string& what) {
   const Frame good =
       render(cam, golden::single_tape_scene(cam.tape_width_m), pose, render_params(4242));
   const FrameOutcome after = nav.process(good.grey);
-  Navigator fresh_nav(cam, nav.options());
+  Navigator fresh_nav(cam, drivers::make_device(), nav.options());
   const FrameOutcome fresh = fresh_nav.process(good.grey);
   expect_sane(after, what + ", next good frame");
   ASSERT_EQ(after.pose.status, Status::ok) << what;
@@ -166,7 +167,7 @@ golden::CeilingScene tape_piece(double x0_m, double x1_m) {
 // ---------------------------------------------------------------------------
 
 TEST(SceneFaults, NoTape) {
-  Navigator nav(camera());
+  Navigator nav(camera(), drivers::make_device());
   // Bare ceiling at several noise levels: the 4.5-sigma threshold admits no
   // two-pixel run, or only isolated specks.
   for (double noise : {1.0, 2.0, 3.0, 5.0}) {
@@ -184,7 +185,7 @@ TEST(SceneFaults, NoTape) {
 }
 
 TEST(SceneFaults, BlackFrames) {
-  Navigator nav(camera());
+  Navigator nav(camera(), drivers::make_device());
   golden::RenderParams p = render_params(9);
   p.background_grey = 0.0;
   p.tape_gain = 0.0;  // flash off
@@ -203,7 +204,7 @@ TEST(SceneFaults, BlackFrames) {
 }
 
 TEST(SceneFaults, SaturatedFrames) {
-  Navigator nav(camera());
+  Navigator nav(camera(), drivers::make_device());
   const golden::CameraPose pose{1.0, 0.1, 5.0 * kDeg};
   const auto scene = golden::single_tape_scene(0.05);
   // Everything at 255: no threshold can rise above the background -> no_tape.
@@ -230,7 +231,7 @@ TEST(SceneFaults, SaturatedFrames) {
 }
 
 TEST(SceneFaults, TapePartlyVisible) {
-  Navigator nav(camera());
+  Navigator nav(camera(), drivers::make_device());
   const golden::CameraPose pose{0.0, 0.1, 5.0 * kDeg};
   // The tape ends ahead of the camera: only its near part is seen.
   for (double end : {2.0, 3.0, 5.0}) {
@@ -264,7 +265,7 @@ TEST(SceneFaults, TapeAtTheImageEdge) {
   // Zenith camera, the tape band straddling the right image border over its
   // whole length: every run touches the border (no unbiased centre).
   {
-    Navigator nav(camera(90.0));
+    Navigator nav(camera(90.0), drivers::make_device());
     const auto scene = golden::single_tape_scene(0.05);
     process(nav, render(camera(90.0), scene, {0.0, 1.45, 0.0}, render_params(16)),
             Status::too_few_points, "band on the right border");
@@ -278,7 +279,7 @@ TEST(SceneFaults, TapeAtTheImageEdge) {
     expect_recovers(nav, "tape at the image edge (zenith)");
   }
   // Pitch 45: the tape far to the side, crossing the image corner.
-  Navigator nav(camera());
+  Navigator nav(camera(), drivers::make_device());
   for (double y : {2.6, -2.6, 3.0}) {
     const Frame f =
         render(camera(), golden::single_tape_scene(0.05), {0.0, y, 0.0}, render_params(18));
@@ -289,7 +290,7 @@ TEST(SceneFaults, TapeAtTheImageEdge) {
 }
 
 TEST(SceneFaults, SeveralParallelTapes) {
-  Navigator nav(camera());
+  Navigator nav(camera(), drivers::make_device());
   golden::CorridorOptions o;
   o.gaps_m.clear();
   o.branch_length_m = 0.0;
@@ -315,7 +316,7 @@ TEST(SceneFaults, SeveralParallelTapes) {
 }
 
 TEST(SceneFaults, TBranch) {
-  Navigator nav(camera());
+  Navigator nav(camera(), drivers::make_device());
   golden::CorridorOptions o;
   o.gaps_m.clear();  // the branch at x = 10 m, 3 m to the right
   const auto scene = golden::corridor_scene(0.05, o);
@@ -333,7 +334,7 @@ TEST(SceneFaults, TBranch) {
 }
 
 TEST(SceneFaults, Gaps) {
-  Navigator nav(camera());
+  Navigator nav(camera(), drivers::make_device());
   golden::CorridorOptions o;  // gaps at 6-6.8, 15-16.2, 27-27.5 m
   o.branch_length_m = 0.0;
   const auto scene = golden::corridor_scene(0.05, o);
@@ -349,7 +350,7 @@ TEST(SceneFaults, Gaps) {
 // lies far outside it (yaw 80: ~4200 px to the side). The pose holds up to
 // max_abs_yaw_deg (80); beyond, the tape runs along the horizon: degenerate.
 TEST(SceneFaults, VanishingPointFarOutsideTheImage) {
-  Navigator nav(camera());
+  Navigator nav(camera(), drivers::make_device());
   const auto scene = golden::single_tape_scene(0.05);
   for (double yaw_deg : {60.0, 70.0, 75.0, 80.0, -70.0}) {
     for (double y : {1.0, 2.0}) {
@@ -376,7 +377,7 @@ TEST(SceneFaults, VanishingPointFarOutsideTheImage) {
 TEST(SceneFaults, NearZenithPitch) {
   const auto scene = golden::single_tape_scene(0.05);
   for (double pitch : {85.0, 87.0, 89.0, 89.9, 89.99, 89.9999, 90.0}) {
-    Navigator nav(camera(pitch));
+    Navigator nav(camera(pitch), drivers::make_device());
     const Frame f = render(camera(pitch), scene, {0.0, 0.1, 5.0 * kDeg}, render_params(24));
     const FrameOutcome r = process(nav, f, Status::ok, "near zenith");
     expect_pose(r, f, kYawBarDeg, kOffsetBarM, "pitch " + std::to_string(pitch));

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "stream/run_record.hpp"
+#include "common/run_record.hpp"
 
 namespace ceilnav::host::tape_steps {
 namespace {

@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
+#include "common/pipeline_config.hpp"
 #include "stream/beat.hpp"
-#include "stream/config.hpp"
 
 namespace ceilnav::stream::test {
 

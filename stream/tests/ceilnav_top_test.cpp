@@ -12,13 +12,15 @@
 #include <vector>
 
 #include "ceilnav/regs.hpp"
+#include "common/version.hpp"
+#include "drivers/axi_lite_master.hpp"
 #include "stream/tests/video_source.hpp"
-#include "stream/version.hpp"
 
 namespace ceilnav::stream {
 namespace {
 
 namespace r = regs;
+using drivers::AxiLiteMaster;
 
 // The top and a reference Pipeline with the same video beats on the same
 // edges; an AxiLiteMaster on the top's register port.

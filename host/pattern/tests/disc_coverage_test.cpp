@@ -9,6 +9,7 @@
 #include <random>
 
 #include "golden/pattern/pattern.hpp"
+#include "host/pattern/tests/pattern_runs.hpp"
 
 namespace ceilnav::host::pattern {
 namespace {
@@ -122,7 +123,7 @@ Fitted fit_frame(const gp::PatternView& v, double noise, int supersample, uint64
   const cv::Mat grey = gp::render_pattern(cam, {}, r, 12, v, p);
   const cv::Mat cls = gp::classify(grey, gp::class_lut(r));
   const FrameMoments m = class_moments(cls.ptr<uint8_t>(0), cls.cols, cls.rows, cls.step[0]);
-  const auto runs = gp::bar_runs(grey, r);
+  const auto runs = test_support::device_runs(grey, r);
   const auto [disc_runs, others] = split_disc_runs(runs, m[kDisc]);
   const auto start = ellipse_from_moments(m[kDisc], model);
   Fitted out;

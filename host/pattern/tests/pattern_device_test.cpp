@@ -8,14 +8,17 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "drivers/device.hpp"
 #include "golden/pattern/pattern.hpp"
-#include "host/device.hpp"
 #include "host/pattern/pattern_pose.hpp"
 
 namespace ceilnav::host::pattern {
 namespace {
 
 namespace gp = golden::pattern;
+using drivers::Backend;
+using drivers::Device;
+using drivers::DeviceOptions;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 CameraConfig lens_camera() {

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "golden/pattern/pattern.hpp"
+#include "host/pattern/tests/pattern_runs.hpp"
 
 namespace ceilnav::host::pattern {
 namespace {
@@ -79,7 +80,7 @@ Frame render(const CameraConfig& cam, const gp::PatternView& v, int id, double n
   f.truth = gp::pattern_truth(cam, {}, id, v);
   f.moments = class_moments(cls.ptr<uint8_t>(0), cls.cols, cls.rows, cls.step[0]);
   f.disc = class_extents(cls.ptr<uint8_t>(0), cls.cols, cls.rows, cls.step[0], kDisc);
-  f.runs = gp::bar_runs(grey, r);
+  f.runs = test_support::device_runs(grey, r);
   return f;
 }
 

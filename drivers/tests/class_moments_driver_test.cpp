@@ -13,11 +13,11 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/pipeline_config.hpp"
+#include "drivers/model_bus.hpp"
 #include "golden/class_moments_ref.hpp"
 #include "golden/thresh_lut_ref.hpp"
 #include "host/driver.hpp"
-#include "host/model_bus.hpp"
-#include "stream/config.hpp"
 #include "stream/pipeline.hpp"
 #include "stream/tests/video_source.hpp"
 
@@ -37,7 +37,7 @@ TEST(ClassMomentsDriver, DriverReadsClassMomentsEqualToCvMoments) {
   }
   ASSERT_GE(frames.size(), 2u) << "opencv-doc photos missing";
 
-  host::ModelBus bus;
+  drivers::ModelBus bus;
   host::Driver driver(bus);
   driver.identify();
   stream::Pipeline ref;

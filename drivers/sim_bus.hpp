@@ -12,12 +12,20 @@
 #include <vector>
 
 #include "ceilnav/regs.hpp"
+#include "common/results.hpp"
+#include "drivers/axi_lite_master.hpp"
 #include "host/bus.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
-#include "stream/results.hpp"
 
-namespace ceilnav::host {
+namespace ceilnav::drivers {
+
+// How a queued frame is streamed into s_axis_video.
+struct FrameFeed {
+  double gap_probability = 0.0;  // before every pixel, idle cycles while a coin with P = this hits
+  uint32_t blanking_cycles = 0;  // idle cycles after the frame's last pixel
+  uint32_t line_blanking_cycles = 0;  // idle cycles after every line but the last
+};
 
 struct SimInputs {
   stream::VideoBeat s_axis_video;
@@ -58,12 +66,12 @@ struct SimBusOptions {
   // The device's build-time configuration (regs::kConfigTape, regs::kConfigFull):
   // which optional blocks the simulated device has.
   regs::Config device_config = regs::kConfigFull;
-  stream::AxiLiteMaster::Timing axi_timing{};  // random valid delays / ready stalls
-  double run_tready_low_probability = 0.0;     // back-pressure on m_axis_runs
+  AxiLiteMaster::Timing axi_timing{};       // random valid delays / ready stalls
+  double run_tready_low_probability = 0.0;  // back-pressure on m_axis_runs
   uint64_t transaction_timeout_cycles = 100000;
 };
 
-class SimBus : public Bus {
+class SimBus : public host::Bus {
  public:
   explicit SimBus(std::unique_ptr<SimDevice> device, const SimBusOptions& options = {});
 
@@ -71,8 +79,11 @@ class SimBus : public Bus {
   void write32(uint32_t addr, uint32_t value) override;
   bool wait_irq(uint64_t timeout_cycles) override;
   void idle(uint64_t cycles) override;
+  // Appends one frame (8-bit grey, row stride in bytes) to the camera feed;
+  // it streams one beat per clock, behind frames queued earlier, while the
+  // host's transactions run.
   void queue_frame(const uint8_t* grey, int width, int height, size_t stride_bytes,
-                   const FrameFeed& feed) override;
+                   const FrameFeed& feed);
   std::vector<stream::RunBeat> take_run_stream() override;
   uint64_t cycles() const override { return cycles_; }
 
@@ -94,7 +105,7 @@ class SimBus : public Bus {
 
   std::unique_ptr<SimDevice> device_;
   SimBusOptions options_;
-  stream::AxiLiteMaster master_;
+  AxiLiteMaster master_;
   uint64_t rng_state_;
   std::deque<stream::VideoBeat> video_;
   std::vector<stream::RunBeat> runs_;
@@ -102,4 +113,4 @@ class SimBus : public Bus {
   SimObserver* observer_ = nullptr;
 };
 
-}  // namespace ceilnav::host
+}  // namespace ceilnav::drivers

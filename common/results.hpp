@@ -1,12 +1,15 @@
 // Per-frame results of the blocks, as latched in the double-buffered result
-// registers at frame end, and the run stream bundle.
+// registers at frame end, and the run stream bundle. These are the device's
+// interface types: they live in common/ so that the host uses them without
+// linking the stream models, and keep the namespace ceilnav::stream of the
+// device they describe.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 
-#include "stream/run_record.hpp"
+#include "common/run_record.hpp"
 
 namespace ceilnav::stream {
 
@@ -71,6 +74,19 @@ struct FrameErrorCounters {  // cumulative since reset, saturating
   uint32_t frames_ok = 0;
   uint32_t frames_aborted = 0;
   friend bool operator==(const FrameErrorCounters&, const FrameErrorCounters&) = default;
+};
+
+// The result registers of one frame, as the host reads them after frame_done.
+struct FrameResults {
+  uint32_t frame_index = 0;  // frames_ok - 1 at this frame's end: 0-based count of good frames
+  bool valid = false;        // false until the first frame is published after reset
+  HistogramResults histogram;
+  MomentResults moments;
+  ClassMomentResults class_moments;  // per pixel class 1..3 inside the class window
+  RunStats run_stats;
+  FrameErrorCounters errors;     // frame_check's counters as of this frame's EOF pixel
+  uint64_t cycles_in_frame = 0;  // clock cycles from the SOF pixel to the EOF pixel, inclusive
+  friend bool operator==(const FrameResults&, const FrameResults&) = default;
 };
 
 }  // namespace ceilnav::stream

@@ -14,15 +14,22 @@
 #include <opencv2/core.hpp>
 
 #include "ceilnav/regs.hpp"
+#include "common/version.hpp"
+#include "drivers/model_bus.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
-#include "host/model_bus.hpp"
 #include "stream/ceilnav_top.hpp"
 #include "stream/pipeline.hpp"
-#include "stream/version.hpp"
 
-namespace ceilnav::host {
+namespace ceilnav::drivers {
 namespace {
+
+using host::Bus;
+using host::BusError;
+using host::Driver;
+using host::DriverOptions;
+using host::FrameReadout;
+using host::RunSink;
 
 cv::Mat random_image(std::mt19937& rng, int w, int h) {
   cv::Mat img(h, w, CV_8UC1);
@@ -212,7 +219,7 @@ TEST(Driver, TapeDeviceSkipsTheAbsentBlock) {
 }
 
 TEST(Driver, ModelBusEqualsProcessFrameRenderedFrames) {
-  CameraConfig cam;
+  host::CameraConfig cam;
   cam.image_width = 160;
   cam.image_height = 120;
   cam.camera_matrix = {130.0, 0.0, 80.0, 0.0, 129.5, 59.0, 0.0, 0.0, 1.0};
@@ -245,4 +252,4 @@ TEST(Driver, ModelBusEqualsProcessFrameRenderedFrames) {
 }
 
 }  // namespace
-}  // namespace ceilnav::host
+}  // namespace ceilnav::drivers

@@ -4,10 +4,10 @@
 #include <cstdint>
 
 #include "ceilnav/regs.hpp"
-#include "host/sim_bus.hpp"
+#include "drivers/sim_bus.hpp"
 #include "stream/ceilnav_top.hpp"
 
-namespace ceilnav::host {
+namespace ceilnav::drivers {
 
 class ModelBus : public SimBus {
  public:
@@ -20,4 +20,4 @@ class ModelBus : public SimBus {
   const stream::CeilnavTop* top_;
 };
 
-}  // namespace ceilnav::host
+}  // namespace ceilnav::drivers

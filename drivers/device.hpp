@@ -1,7 +1,7 @@
-// The device as the host uses it for one frame: program a PipelineConfig,
-// stream a grey frame through it, collect the result registers and the run
-// records. One interface over the three backends (the tape Navigator and the
-// pattern commands share it).
+// The device on one of three backends, as the host's FrameProcessor: the
+// pipeline's frame-at-a-time path (fast), or the host Driver programming the
+// device through its registers on a simulation bus — the C++ cycle model
+// (ModelBus) or the Verilated RTL (rtl_bus_factory, drivers/rtl_backend.hpp).
 #pragma once
 
 #include <cstdint>
@@ -11,20 +11,23 @@
 
 #include <opencv2/core.hpp>
 
-#include "host/bus.hpp"
+#include "drivers/sim_bus.hpp"
 #include "host/driver.hpp"
-#include "host/sim_bus.hpp"
+#include "host/frame_processor.hpp"
 #include "stream/pipeline.hpp"
 
-namespace ceilnav::host {
+namespace ceilnav::drivers {
 
 enum class Backend { fast, model, rtl };
+
+// Creates the simulation bus of a backend with the given stream timing.
+using BusFactory = std::function<std::unique_ptr<SimBus>(const SimBusOptions&)>;
 
 struct DeviceOptions {
   // fast: the pipeline's frame-at-a-time path, no registers (the default:
   // fastest). model / rtl: the Driver programs the device through its
   // registers on a Bus backend — the C++ cycle-level register model
-  // (ModelBus) or the Verilated RTL (bus_factory, see apps/) — while the frame
+  // (ModelBus) or the Verilated RTL (bus_factory, see rtl_backend.hpp) — while the frame
   // streams in beat by beat with random tvalid gaps, run-stream back-pressure
   // and AXI-Lite stalls (probabilities in [0, 1)). Every backend gives the
   // same results and runs, bit for bit.
@@ -34,10 +37,10 @@ struct DeviceOptions {
   uint64_t seed = 1;
   uint32_t fifo_depth = 1024;
   // Creates the Bus for Backend::rtl (and, if set, for Backend::model).
-  std::function<std::unique_ptr<Bus>(const SimBusOptions&)> bus_factory;
+  BusFactory bus_factory;
 };
 
-class Device {
+class Device : public host::FrameProcessor {
  public:
   // Bus backends: creates the bus and identifies the device (throws
   // std::runtime_error if it is not a ceilnav device; std::invalid_argument
@@ -48,15 +51,18 @@ class Device {
   // std::invalid_argument otherwise). `runs` receives the frame's runs in
   // stream order; `cycles` the device clock cycles spent (0 on fast).
   stream::FrameResults process(const cv::Mat& grey, const stream::PipelineConfig& cfg,
-                               std::vector<stream::RunRecord>& runs, uint64_t& cycles);
+                               std::vector<stream::RunRecord>& runs, uint64_t& cycles) override;
 
   const DeviceOptions& options() const { return options_; }
 
  private:
   DeviceOptions options_;
-  stream::Pipeline pipeline_;  // Backend::fast
-  std::unique_ptr<Bus> bus_;   // Backend::model / rtl
-  std::unique_ptr<Driver> driver_;
+  stream::Pipeline pipeline_;    // Backend::fast
+  std::unique_ptr<SimBus> bus_;  // Backend::model / rtl
+  std::unique_ptr<host::Driver> driver_;
 };
 
-}  // namespace ceilnav::host
+// The device of `options` (see Device) behind the host's interface.
+std::unique_ptr<host::FrameProcessor> make_device(const DeviceOptions& options = {});
+
+}  // namespace ceilnav::drivers

@@ -1,5 +1,5 @@
 // The CSV writer: RFC 4180 quoting and the fixed number formats.
-#include "host/csv.hpp"
+#include "common/csv.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-using ceilnav::host::CsvWriter;
+using ceilnav::CsvWriter;
 
 TEST(CsvWriter, PlainFieldsAreNotQuoted) {
   EXPECT_EQ(CsvWriter::quote("frame_0001.png"), "frame_0001.png");

@@ -1,11 +1,11 @@
-#include "host/device.hpp"
+#include "drivers/device.hpp"
 
 #include <stdexcept>
 #include <string>
 
-#include "host/model_bus.hpp"
+#include "drivers/model_bus.hpp"
 
-namespace ceilnav::host {
+namespace ceilnav::drivers {
 
 Device::Device(const DeviceOptions& options) : options_(options), pipeline_(options.fifo_depth) {
   if (options_.backend == Backend::fast) return;
@@ -21,7 +21,7 @@ Device::Device(const DeviceOptions& options) : options_(options), pipeline_(opti
   } else {
     throw std::invalid_argument("device: the rtl backend needs a bus factory");
   }
-  driver_ = std::make_unique<Driver>(*bus_);
+  driver_ = std::make_unique<host::Driver>(*bus_);
   driver_->identify();
 }
 
@@ -45,7 +45,7 @@ stream::FrameResults Device::process(const cv::Mat& grey, const stream::Pipeline
   feed.gap_probability = options_.gap_probability;
   feed.blanking_cycles = 16;
   bus_->queue_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], feed);
-  FrameReadout r = driver_->read_frame();
+  host::FrameReadout r = driver_->read_frame();
   if (!r.trailer_seen || !r.consistent) {
     throw std::runtime_error("device: the device lost the frame's run trailer or results");
   }
@@ -54,4 +54,8 @@ stream::FrameResults Device::process(const cv::Mat& grey, const stream::Pipeline
   return r.results;
 }
 
-}  // namespace ceilnav::host
+std::unique_ptr<host::FrameProcessor> make_device(const DeviceOptions& options) {
+  return std::make_unique<Device>(options);
+}
+
+}  // namespace ceilnav::drivers

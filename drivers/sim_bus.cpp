@@ -1,10 +1,10 @@
-#include "host/sim_bus.hpp"
+#include "drivers/sim_bus.hpp"
 
 #include <string>
 
 #include "ceilnav/regs.hpp"
 
-namespace ceilnav::host {
+namespace ceilnav::drivers {
 
 SimBus::SimBus(std::unique_ptr<SimDevice> device, const SimBusOptions& options)
     : device_(std::move(device)),
@@ -46,7 +46,7 @@ void SimBus::run_transaction() {
     if (master_.done()) return;
     tick();
   }
-  if (!master_.done()) throw BusError("SimBus: AXI4-Lite transaction timed out");
+  if (!master_.done()) throw host::BusError("SimBus: AXI4-Lite transaction timed out");
 }
 
 uint8_t SimBus::read32_resp(uint32_t addr, uint32_t& value) {
@@ -65,14 +65,14 @@ uint8_t SimBus::write32_resp(uint32_t addr, uint32_t value, uint8_t strb) {
 uint32_t SimBus::read32(uint32_t addr) {
   uint32_t value = 0;
   if (read32_resp(addr, value) != regs::kRespOkay) {
-    throw BusError("SimBus: SLVERR reading 0x" + std::to_string(addr));
+    throw host::BusError("SimBus: SLVERR reading 0x" + std::to_string(addr));
   }
   return value;
 }
 
 void SimBus::write32(uint32_t addr, uint32_t value) {
   if (write32_resp(addr, value) != regs::kRespOkay) {
-    throw BusError("SimBus: SLVERR writing 0x" + std::to_string(addr));
+    throw host::BusError("SimBus: SLVERR writing 0x" + std::to_string(addr));
   }
 }
 
@@ -112,4 +112,4 @@ std::vector<stream::RunBeat> SimBus::take_run_stream() {
   return out;
 }
 
-}  // namespace ceilnav::host
+}  // namespace ceilnav::drivers

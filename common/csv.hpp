@@ -19,7 +19,7 @@
 
 #include <fmt/format.h>
 
-namespace ceilnav::host {
+namespace ceilnav {
 
 class CsvWriter {
  public:
@@ -97,4 +97,4 @@ class CsvWriter {
   bool first_ = true;
 };
 
-}  // namespace ceilnav::host
+}  // namespace ceilnav

@@ -20,16 +20,16 @@
 #include <stdexcept>
 #include <string>
 
-#include "apps/rtl_backend.hpp"
 #include "ceilnav/regs.hpp"
+#include "drivers/rtl_backend.hpp"
 #include "stream/run_scanner.hpp"
 
-namespace ceilnav::app {
+namespace ceilnav::drivers {
 
 namespace {
 
 template <class Top>
-class RtlDevice : public host::SimDevice {
+class RtlDevice : public SimDevice {
  public:
   explicit RtlDevice(uint64_t seed) : ctx_(std::make_unique<VerilatedContext>()) {
     ctx_->randReset(2);  // registers without reset start random, as in silicon
@@ -54,8 +54,8 @@ class RtlDevice : public host::SimDevice {
     top_->eval();
   }
 
-  host::SimOutputs outputs() const override {
-    host::SimOutputs o;
+  SimOutputs outputs() const override {
+    SimOutputs o;
     o.s_axil.awready = top_->s_axil_awready_o;
     o.s_axil.wready = top_->s_axil_wready_o;
     o.s_axil.bvalid = top_->s_axil_bvalid_o;
@@ -74,7 +74,7 @@ class RtlDevice : public host::SimDevice {
     return o;
   }
 
-  void clock(const host::SimInputs& in) override {
+  void clock(const SimInputs& in) override {
     top_->s_axis_video_tdata_i = in.s_axis_video.tdata;
     top_->s_axis_video_tvalid_i = in.s_axis_video.tvalid;
     top_->s_axis_video_tuser_i = in.s_axis_video.tuser;
@@ -103,19 +103,19 @@ class RtlDevice : public host::SimDevice {
 
 }  // namespace
 
-std::function<std::unique_ptr<host::Bus>(const host::SimBusOptions&)> rtl_bus_factory() {
-  return [](const host::SimBusOptions& options) -> std::unique_ptr<host::Bus> {
+BusFactory rtl_bus_factory() {
+  return [](const SimBusOptions& options) -> std::unique_ptr<SimBus> {
     const regs::Config& c = options.device_config;
     if (c.has_class_moments == regs::kConfigFull.has_class_moments) {
-      return std::make_unique<host::SimBus>(std::make_unique<RtlDevice<Vceilnav_top>>(options.seed),
-                                            options);
+      return std::make_unique<SimBus>(std::make_unique<RtlDevice<Vceilnav_top>>(options.seed),
+                                      options);
     }
     if (c.has_class_moments == regs::kConfigTape.has_class_moments) {
-      return std::make_unique<host::SimBus>(
-          std::make_unique<RtlDevice<Vceilnav_top_tape>>(options.seed), options);
+      return std::make_unique<SimBus>(std::make_unique<RtlDevice<Vceilnav_top_tape>>(options.seed),
+                                      options);
     }
     throw std::runtime_error(std::string("no Verilated top for configuration ") + c.name);
   };
 }
 
-}  // namespace ceilnav::app
+}  // namespace ceilnav::drivers

@@ -1,8 +1,8 @@
-#include "host/model_bus.hpp"
+#include "drivers/model_bus.hpp"
 
 #include <memory>
 
-namespace ceilnav::host {
+namespace ceilnav::drivers {
 
 namespace {
 
@@ -33,4 +33,4 @@ ModelBus::ModelBus(const SimBusOptions& options, uint32_t run_fifo_depth)
     : SimBus(std::make_unique<ModelDevice>(run_fifo_depth, options.device_config), options),
       top_(&static_cast<ModelDevice&>(device()).top()) {}
 
-}  // namespace ceilnav::host
+}  // namespace ceilnav::drivers

@@ -6,7 +6,7 @@
 #include <array>
 #include <cstdint>
 
-#include "stream/limits.hpp"
+#include "common/limits.hpp"
 
 namespace ceilnav::stream {
 
