@@ -1,6 +1,6 @@
 // PortProbe: frame, irq, run-stream and AXI4-Lite accounting at the device
 // ports, edge by edge.
-#include "apps/profile.hpp"
+#include "apps/port_probe.hpp"
 
 namespace ceilnav::app {
 

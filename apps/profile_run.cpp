@@ -1,12 +1,14 @@
 // `ceilnav profile`'s device runs: the backend, the rendered frames, the
 // frame-by-frame measurement through the driver and the rules checked on it.
+#include "apps/profile_run.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <string>
 
 #include "apps/commands.hpp"
-#include "apps/profile.hpp"
+#include "apps/port_probe.hpp"
 #include "apps/progress.hpp"
 #include "ceilnav/regs.hpp"
 #include "drivers/model_bus.hpp"

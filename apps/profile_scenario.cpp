@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "apps/profile.hpp"
+#include "apps/profile_scenario.hpp"
 
 namespace ceilnav::app {
 

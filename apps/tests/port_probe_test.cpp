@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "apps/profile.hpp"
+#include "apps/port_probe.hpp"
 
 namespace ceilnav::app {
 namespace {
