@@ -40,16 +40,12 @@
 #include "stream/run_scanner.hpp"
 
 #if CEILNAV_BENCH_RTL
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#include "Vceilnav_top_fast.h"
-#pragma GCC diagnostic pop
 #include "testbench/ports.hpp"
 #include "testbench/verilated_top.hpp"
+
+CEILNAV_VERILATOR_HEADERS_BEGIN
+#include "Vceilnav_top_fast.h"
+CEILNAV_VERILATOR_HEADERS_END
 #endif
 
 namespace {

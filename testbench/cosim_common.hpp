@@ -34,14 +34,9 @@
 #include "testbench/verilated_top.hpp"
 
 #if defined(CEILNAV_RTL_COVERAGE) && CEILNAV_RTL_COVERAGE
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "verilated_cov.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 #endif
 
 namespace ceilnav::testbench {

@@ -14,11 +14,9 @@
 #include "testbench/block_bench.hpp"
 #include "testbench/ports.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "Vframe_check.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 namespace {

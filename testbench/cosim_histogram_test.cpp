@@ -16,12 +16,11 @@
 #include "stream/tests/video_source.hpp"
 #include "testbench/block_bench.hpp"
 #include "testbench/ports.hpp"
+#include "testbench/video_stream.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "Vhistogram.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 namespace {
@@ -186,15 +185,8 @@ void random_size(Rng& rng, int& width, int& height) {
   if (pick < 4) {
     width = 1;
     height = 1;
-  } else if (pick < 12) {
-    width = static_cast<int>(rng.uniform(1, 8));
-    height = static_cast<int>(rng.uniform(1, 8));
-  } else if (pick < 19) {
-    width = static_cast<int>(rng.uniform(1, 80));
-    height = static_cast<int>(rng.uniform(1, 60));
   } else {
-    width = static_cast<int>(rng.uniform(1, 640));
-    height = static_cast<int>(rng.uniform(1, std::min<int64_t>(480, 40000 / width)));
+    pixel_frame_size(rng, pick, 12, 19, width, height);
   }
 }
 

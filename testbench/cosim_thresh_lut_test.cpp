@@ -16,12 +16,11 @@
 #include "stream/tests/video_source.hpp"
 #include "stream/thresh_lut.hpp"
 #include "testbench/block_bench.hpp"
+#include "testbench/video_stream.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "Vthresh_lut.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 namespace {
@@ -187,17 +186,7 @@ void add_writes(std::vector<LutCycle>& cycles, size_t from, Rng& rng) {
 }
 
 void random_size(Rng& rng, int& width, int& height) {
-  const int64_t pick = rng.uniform(0, 9);
-  if (pick < 5) {
-    width = static_cast<int>(rng.uniform(1, 8));
-    height = static_cast<int>(rng.uniform(1, 8));
-  } else if (pick < 9) {
-    width = static_cast<int>(rng.uniform(1, 80));
-    height = static_cast<int>(rng.uniform(1, 60));
-  } else {
-    width = static_cast<int>(rng.uniform(1, 640));
-    height = static_cast<int>(rng.uniform(1, std::min<int64_t>(480, 40000 / width)));
-  }
+  pixel_frame_size(rng, rng.uniform(0, 9), 5, 9, width, height);
 }
 
 TEST(CosimThreshLut, RandomStreamsWritesAndCommits) {

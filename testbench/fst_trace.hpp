@@ -9,15 +9,11 @@
 #include <memory>
 #include <string>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#include "verilated.h"
+#include "testbench/verilated_top.hpp"
+
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "verilated_fst_c.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 

@@ -22,18 +22,13 @@
 #include "testbench/ports.hpp"
 #include "testbench/video_stream.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #if CEILNAV_TOP_CONFIG_TAPE
 #include "Vceilnav_top_tape.h"
 #else
 #include "Vceilnav_top.h"
 #endif
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 

@@ -19,14 +19,19 @@
 #include <memory>
 #include <string>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
+// Verilator's headers (verilated*.h and the generated model classes) trip the
+// project warnings: every co-simulation includes them between these two.
+#define CEILNAV_VERILATOR_HEADERS_BEGIN                                         \
+  _Pragma("GCC diagnostic push") _Pragma("GCC diagnostic ignored \"-Wshadow\"") \
+      _Pragma("GCC diagnostic ignored \"-Wconversion\"")                        \
+          _Pragma("GCC diagnostic ignored \"-Wsign-conversion\"")               \
+              _Pragma("GCC diagnostic ignored \"-Wpedantic\"")                  \
+                  _Pragma("GCC diagnostic ignored \"-Wunused-parameter\"")
+#define CEILNAV_VERILATOR_HEADERS_END _Pragma("GCC diagnostic pop")
+
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "verilated.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 

@@ -63,6 +63,23 @@ inline std::vector<stream::VideoBeat> video_beats(const std::vector<uint8_t>& px
   return beats;
 }
 
+// A frame size of the pixel-stream block tests (thresh_lut, histogram), from
+// a pick the caller drew: below small_below up to 8 x 8, below medium_below
+// up to 80 x 60, else up to 640 x 480 with at most 40 000 pixels.
+inline void pixel_frame_size(Rng& rng, int64_t pick, int64_t small_below, int64_t medium_below,
+                             int& width, int& height) {
+  if (pick < small_below) {
+    width = static_cast<int>(rng.uniform(1, 8));
+    height = static_cast<int>(rng.uniform(1, 8));
+  } else if (pick < medium_below) {
+    width = static_cast<int>(rng.uniform(1, 80));
+    height = static_cast<int>(rng.uniform(1, 60));
+  } else {
+    width = static_cast<int>(rng.uniform(1, 640));
+    height = static_cast<int>(rng.uniform(1, std::min<int64_t>(480, 40000 / width)));
+  }
+}
+
 // Appends to `queue`: blanking of uniform(0, max_blanking) idle beats (none,
 // and nothing drawn, if max_blanking < 0), then the beats, each after tvalid
 // gaps while a coin with P(gap) = gap_p comes up.
