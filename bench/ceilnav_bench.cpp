@@ -21,9 +21,6 @@
 
 #include <opencv2/core.hpp>
 
-#include "common/pipeline_config.hpp"
-#include "common/run_record.hpp"
-#include "drivers/sim_bus.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "golden/pipeline_ref.hpp"
@@ -32,23 +29,23 @@
 #include "host/camera_model.hpp"
 #include "host/driver.hpp"
 #include "host/pattern/pattern_frame.hpp"
+#include "drivers/sim_bus.hpp"
 #include "host/tape_pose.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
 #include "stream/ceilnav_top.hpp"
+#include "common/pipeline_config.hpp"
 #include "stream/pipeline.hpp"
+#include "common/run_record.hpp"
 #include "stream/run_scanner.hpp"
 
 #if CEILNAV_BENCH_RTL
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
+#include "testbench/ports.hpp"
+#include "testbench/verilated_top.hpp"
+
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "Vceilnav_top_fast.h"
-#include "verilated.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 #endif
 
 namespace {
@@ -235,55 +232,20 @@ void BM_CycleModelPipeline(benchmark::State& state) {
 BENCHMARK(BM_CycleModelPipeline)->Unit(benchmark::kMillisecond);
 
 #if CEILNAV_BENCH_RTL
-// The Verilated top as testbench/ceilnav_top.cmake builds it for speed
-// (ceilnav_rtl_top_fast: no assertions, no trace support).
+// The Verilated top as testbench/CMakeLists.txt builds it for speed
+// (ceilnav_rtl_top_fast: no assertions, no trace support), in the harness of
+// the co-simulations (testbench/verilated_top.hpp), reset once.
 using Vtop = Vceilnav_top_fast;
-class Rtl {
+class Rtl : public testbench::VerilatedTop<Vtop> {
  public:
-  Rtl() : ctx_(std::make_unique<VerilatedContext>()) {
-    ctx_->randReset(2);
-    ctx_->randSeed(1);
-    top_ = std::make_unique<Vtop>(ctx_.get(), "ceilnav_top");
-    top_->clk_i = 0;
-    reset();
-  }
-  ~Rtl() { top_->final(); }
-  Rtl(const Rtl&) = delete;
-  Rtl& operator=(const Rtl&) = delete;
+  Rtl() : VerilatedTop(1, "ceilnav_top") { reset_cycle(); }
 
-  // The flops reset synchronously: rst_ni low across one rising edge.
-  void reset() {
-    top_->clk_i = 0;
-    top_->rst_ni = 0;
-    top_->eval();
-    top_->clk_i = 1;
-    top_->eval();
-    top_->clk_i = 0;
-    top_->rst_ni = 1;
-    top_->eval();
-  }
-
-  // One edge with the AXI-Lite and run-stream inputs as set (idle, tready).
-  // Two eval() calls: the new inputs with the rising edge (Verilator settles
-  // the logic that depends on inputs before it runs the edge's flops), then
-  // the falling edge, which no process is sensitive to; it only records
-  // clk_i = 0 so that the next call sees a rising edge.
+  // One edge with the video beat; the AXI-Lite and run-stream inputs as set
+  // (idle, tready).
   void clock(const stream::VideoBeat& b) {
-    top_->s_axis_video_tdata_i = b.tdata;
-    top_->s_axis_video_tvalid_i = b.tvalid;
-    top_->s_axis_video_tuser_i = b.tuser;
-    top_->s_axis_video_tlast_i = b.tlast;
-    top_->clk_i = 1;
-    top_->eval();
-    top_->clk_i = 0;
-    top_->eval();
+    testbench::drive_s_axis_video(dut(), b);
+    edge();
   }
-
-  Vtop& top() { return *top_; }
-
- private:
-  std::unique_ptr<VerilatedContext> ctx_;
-  std::unique_ptr<Vtop> top_;
 };
 
 // A non-owning SimDevice on the Rtl, so the host Driver can configure it and
@@ -291,37 +253,19 @@ class Rtl {
 class RtlDeviceRef : public drivers::SimDevice {
  public:
   explicit RtlDeviceRef(Rtl& rtl) : rtl_(rtl) {}
-  void reset() override { rtl_.reset(); }
+  void reset() override { rtl_.reset_cycle(); }
   drivers::SimOutputs outputs() const override {
-    Vtop& t = rtl_.top();
+    const Vtop& t = rtl_.dut();
     drivers::SimOutputs o;
-    o.s_axil.awready = t.s_axil_awready_o;
-    o.s_axil.wready = t.s_axil_wready_o;
-    o.s_axil.bvalid = t.s_axil_bvalid_o;
-    o.s_axil.bresp = static_cast<uint8_t>(t.s_axil_bresp_o);
-    o.s_axil.arready = t.s_axil_arready_o;
-    o.s_axil.rvalid = t.s_axil_rvalid_o;
-    o.s_axil.rdata = t.s_axil_rdata_o;
-    o.s_axil.rresp = static_cast<uint8_t>(t.s_axil_rresp_o);
-    o.m_axis_runs.tvalid = t.m_axis_runs_tvalid_o;
-    o.m_axis_runs.tlast = t.m_axis_runs_tlast_o;
-    stream::RunBeatWords words{};
-    for (size_t k = 0; k < words.size(); ++k) words[k] = t.m_axis_runs_tdata_o[k];
-    o.m_axis_runs.tdata = stream::unpack_run_beat(words);
+    o.s_axil = testbench::read_s_axil(t);
+    o.m_axis_runs = testbench::read_m_axis_runs(t);
     o.irq = t.irq_o;
+    o.s_axis_video_tready = t.s_axis_video_tready_o;
     return o;
   }
   void clock(const drivers::SimInputs& in) override {
-    Vtop& t = rtl_.top();
-    t.s_axil_awaddr_i = in.s_axil.awaddr;
-    t.s_axil_awvalid_i = in.s_axil.awvalid;
-    t.s_axil_wdata_i = in.s_axil.wdata;
-    t.s_axil_wstrb_i = in.s_axil.wstrb & 0xFu;
-    t.s_axil_wvalid_i = in.s_axil.wvalid;
-    t.s_axil_bready_i = in.s_axil.bready;
-    t.s_axil_araddr_i = in.s_axil.araddr;
-    t.s_axil_arvalid_i = in.s_axil.arvalid;
-    t.s_axil_rready_i = in.s_axil.rready;
+    Vtop& t = rtl_.dut();
+    testbench::drive_s_axil(t, in.s_axil);
     t.m_axis_runs_tready_i = in.m_axis_runs_tready;
     rtl_.clock(in.s_axis_video);
   }
@@ -348,7 +292,7 @@ void BM_Rtl(benchmark::State& state) {
     state.SkipWithError("RTL results differ from the fast path");
     return;
   }
-  idle_axi(rtl.top());
+  idle_axi(rtl.dut());
   size_t i = 0;
   int64_t cycles = 0;
   for (auto _ : state) {

@@ -23,6 +23,7 @@
 #include "stream/run_scanner.hpp"
 #include "testbench/cosim_common.hpp"
 #include "testbench/top_cosim.hpp"
+#include "testbench/video_stream.hpp"
 
 namespace ceilnav::testbench {
 namespace {
@@ -62,25 +63,7 @@ std::vector<BusOp> lut_program(Rng& rng, bool sync) {
 
 // Pixels of one frame: dark noise with bright rectangles (runs for the scanner).
 std::vector<uint8_t> frame_pixels(Rng& rng, int w, int h) {
-  std::vector<uint8_t> px(static_cast<size_t>(w) * static_cast<size_t>(h));
-  const auto dark = static_cast<int>(rng.uniform(0, 80));
-  for (auto& p : px) p = static_cast<uint8_t>(rng.uniform(0, dark));
-  const auto blobs = rng.uniform(0, 6);
-  for (int64_t b = 0; b < blobs; ++b) {
-    const auto x0 = static_cast<int>(rng.uniform(0, w - 1));
-    const auto y0 = static_cast<int>(rng.uniform(0, h - 1));
-    const auto bw = static_cast<int>(rng.uniform(1, std::max(1, w / 3)));
-    const auto bh = static_cast<int>(rng.uniform(1, std::max(1, h / 3)));
-    const auto level = static_cast<int>(rng.uniform(120, 255));
-    for (int y = y0; y < std::min(h, y0 + bh); ++y) {
-      for (int x = x0; x < std::min(w, x0 + bw); ++x) {
-        const int v = level - static_cast<int>(rng.uniform(0, 30));
-        px[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] =
-            static_cast<uint8_t>(std::max(0, v));
-      }
-    }
-  }
-  return px;
+  return blob_pixels(rng, w, h, BlobStyle{});
 }
 
 enum class Malform : uint8_t { kNone, kEarlyEol, kLateEol, kMissingSof, kEarlySof, kStray };
@@ -489,58 +472,18 @@ TEST(CeilnavTopCosim, RunSinkRegistersAndOverflow) {
 // class_moments at device level: the CLASS_MOM registers read over AXI4-Lite
 // equal cv::moments of each class mask inside the class window, with every
 // port still compared on every cycle (TopCosim).
-class RegBench {
+class RegBench : public DeviceBench {
  public:
-  explicit RegBench(uint64_t seed) : top_(seed, "ceilnav_top_class_moments") {}
+  // m_axis_runs_tready always high.
+  explicit RegBench(uint64_t seed) : DeviceBench(seed, "ceilnav_top_class_moments", 1.0) {}
 
-  void step() {
-    VideoBeat beat;
-    if (!video_.empty()) {
-      beat = video_.front();
-      video_.pop_front();
-    }
-    top_.step(beat, true);
-  }
-  uint32_t read(uint32_t addr) {
-    top_.master().start_read(addr);
-    wait_bus();
-    EXPECT_EQ(top_.master().resp(), r::kRespOkay) << "read of 0x" << std::hex << addr;
-    return top_.master().rdata();
-  }
-  // The response of a read or a write, whatever it is.
-  uint8_t read_resp(uint32_t addr, uint32_t& data) {
-    top_.master().start_read(addr);
-    wait_bus();
-    data = top_.master().rdata();
-    return top_.master().resp();
-  }
-  uint8_t write_resp(uint32_t addr, uint32_t data) {
-    top_.master().start_write(addr, data, 0xF);
-    wait_bus();
-    return top_.master().resp();
-  }
-  void write(uint32_t addr, uint32_t data) {
-    top_.master().start_write(addr, data, 0xF);
-    wait_bus();
-    EXPECT_EQ(top_.master().resp(), r::kRespOkay) << "write of 0x" << std::hex << addr;
-  }
   // A well-formed frame of `img` with tvalid gaps of probability gap_p.
   void queue_frame(const cv::Mat& img, double gap_p, Rng& rng) {
+    std::vector<uint8_t> px;
     for (int y = 0; y < img.rows; ++y) {
-      for (int x = 0; x < img.cols; ++x) {
-        while (gap_p > 0.0 && rng.chance(gap_p)) video_.push_back(VideoBeat{});
-        VideoBeat b;
-        b.tvalid = true;
-        b.tdata = img.at<uint8_t>(y, x);
-        b.tuser = x == 0 && y == 0;
-        b.tlast = x == img.cols - 1;
-        video_.push_back(b);
-      }
+      for (int x = 0; x < img.cols; ++x) px.push_back(img.at<uint8_t>(y, x));
     }
-  }
-  void drain_video() {
-    while (!video_.empty() && !top_.sim().failed()) step();
-    for (int k = 0; k < stream::CeilnavTop::kEofToIntrCycles + 4; ++k) step();
+    queue(video_beats(px, img.cols), gap_p, -1, rng);
   }
   void set_window(const stream::ClassWindow& w) {
     write(r::class_win_x::kOffset, r::class_win_x::kX0.put(w.x0) | r::class_win_x::kX1.put(w.x1));
@@ -555,16 +498,6 @@ class RegBench {
     }
     return m;
   }
-  TopCosim& top() { return top_; }
-
- private:
-  void wait_bus() {
-    do {
-      step();
-    } while (!top_.master().idle() && !top_.sim().failed());
-  }
-  TopCosim top_;
-  std::deque<VideoBeat> video_;
 };
 
 #if CEILNAV_TOP_CONFIG_TAPE
@@ -606,8 +539,8 @@ TEST(CeilnavTopCosim, AbsentClassMomentRegistersAnswerSlvErr) {
   EXPECT_EQ(b.read(r::frame_count::kOffset), 1u);
   EXPECT_EQ(b.read(r::res_frame_index::kOffset), 0u);
   EXPECT_NE(b.read(r::intr_state::kOffset) & r::intr_state::kFrameDone.mask(), 0u);
-  EXPECT_FALSE(b.top().sim().failed());
-  b.top().sim().report();
+  EXPECT_FALSE(b.sim().failed());
+  b.sim().report();
 }
 
 #else
@@ -673,7 +606,7 @@ TEST(CeilnavTopCosim, ClassMomentsThroughRegistersEqualCvMoments) {
   for (int k = 0; k < 500; ++k) b.step();
   b.set_window(win_b);  // during frame 1
   // Frame 1 is published while frame 2 streams.
-  while (b.top().model().pipeline().results().frame_index < 1 && !b.top().sim().failed()) b.step();
+  while (b.model().pipeline().results().frame_index < 1 && !b.sim().failed()) b.step();
   const stream::ClassMomentResults got1 = b.read_class_moments();
   EXPECT_EQ(b.read(r::res_frame_index::kOffset), 1u) << "frame 2 published during the readout";
   EXPECT_EQ(got1, golden_of(img1, win_a));
@@ -699,8 +632,8 @@ TEST(CeilnavTopCosim, ClassMomentsThroughRegistersEqualCvMoments) {
   ASSERT_GE(index, 3u);
   ASSERT_LT(index - 3u, tiny.size());
   EXPECT_EQ(b.read_class_moments(), golden_of(tiny[index - 3u], win_c));
-  EXPECT_FALSE(b.top().sim().failed());
-  b.top().sim().report();
+  EXPECT_FALSE(b.sim().failed());
+  b.sim().report();
 }
 
 #endif

@@ -1,12 +1,9 @@
 // Shared co-simulation harness: one Verilated top against a C++ cycle model.
-//
-// Protocol (Verilator's examples): every cycle starts with clk_i low; the test
-// sets the inputs of both the RTL and the C++ model, then edge() settles the
-// inputs, raises clk_i (the sampling edge), settles the outputs and lowers
-// clk_i again, so inputs never change on the sampling edge. reset_cycle()
-// holds rst_ni low across one rising edge (the C++ model's reset() stands for
-// that edge): an asynchronous reset sees the falling rst_ni, a synchronous one
-// the edge, so the same harness serves both.
+// Cosim<Top> = VerilatedTop<Top, FstTrace> (clock and reset protocol,
+// testbench/verilated_top.hpp) + Scoreboard (testbench/scoreboard.hpp); the
+// test sets the inputs of both the RTL and the C++ model before each edge();
+// the model's reset() stands for reset_cycle()'s edge. See docs/cosim.md
+// "The scaffolding".
 //
 // Environment (switched by option, not by editing code):
 //   CEILNAV_COSIM_SEED=<n>    overrides every test's default seed
@@ -32,18 +29,15 @@
 
 #include <gtest/gtest.h>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#include "verilated.h"
-#include "verilated_fst_c.h"
+#include "testbench/fst_trace.hpp"
+#include "testbench/scoreboard.hpp"
+#include "testbench/verilated_top.hpp"
+
 #if defined(CEILNAV_RTL_COVERAGE) && CEILNAV_RTL_COVERAGE
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "verilated_cov.h"
+CEILNAV_VERILATOR_HEADERS_END
 #endif
-#pragma GCC diagnostic pop
 
 namespace ceilnav::testbench {
 
@@ -104,121 +98,41 @@ class Rng {
   std::mt19937_64 engine_;
 };
 
-// One Verilated top (with ports clk_i and rst_ni) and its context.
+// The co-simulation harness: one Verilated top (VerilatedTop with the FST
+// trace policy) and the scoreboard its outputs are compared on.
 template <class Top>
 class Cosim {
  public:
-  static constexpr uint64_t kPeriodTicks = 10;  // trace time units per clock
+  static constexpr uint64_t kPeriodTicks = VerilatedTop<Top, FstTrace>::kPeriodTicks;
 
-  Cosim(const std::string& name, uint64_t seed) : name_(name), seed_(seed) {
-    ctx_ = std::make_unique<VerilatedContext>();
-    ctx_->randReset(2);  // registers without reset start random, seeded
-    ctx_->randSeed(static_cast<int>(seed & 0x7FFFFFFFu));
-    const char* argv[] = {"cosim"};
-    ctx_->commandArgs(1, argv);
-    const char* trace = std::getenv("CEILNAV_TRACE");
-    if (trace != nullptr && *trace != '\0') {
-      ctx_->traceEverOn(true);
-    }
-    top_ = std::make_unique<Top>(ctx_.get(), "TOP");
-    if (trace != nullptr && *trace != '\0') {
-      std::string path = trace;
-      if (const size_t at = path.find("%n"); at != std::string::npos) {
-        path.replace(at, 2, name_);
-      }
-      fst_ = std::make_unique<VerilatedFstC>();
-      top_->trace(fst_.get(), 99);
-      fst_->open(path.c_str());
-    }
-    // Printed first so that a failing RTL assertion ($stop) still shows it.
-    std::printf("[cosim] %s: seed %llu (rerun with CEILNAV_COSIM_SEED=%llu)\n", name_.c_str(),
-                static_cast<unsigned long long>(seed_), static_cast<unsigned long long>(seed_));
-    std::fflush(stdout);
-    top_->clk_i = 0;
-    top_->rst_ni = 1;
-    top_->eval();
-    reset_cycle();
+  // The scoreboard first: it prints the seed before the model runs.
+  Cosim(const std::string& name, uint64_t seed) : board_(name, seed), top_(seed, name) {
+    top_.reset_cycle();
   }
 
-  ~Cosim() {
-    top_->final();
-    if (fst_) {
-      fst_->close();
-    }
-    write_coverage();
-  }
+  ~Cosim() { write_coverage(); }
 
   Cosim(const Cosim&) = delete;
   Cosim& operator=(const Cosim&) = delete;
 
-  Top& dut() { return *top_; }
-  VerilatedContext& ctx() { return *ctx_; }
-  uint64_t seed() const { return seed_; }
-  uint64_t cycle() const { return cycle_; }  // rising edges so far
-  uint64_t checks() const { return checks_; }
-  bool failed() const { return failed_; }
+  Top& dut() { return top_.dut(); }
+  VerilatedContext& ctx() { return top_.ctx(); }
+  Scoreboard& board() { return board_; }
+  uint64_t seed() const { return board_.seed(); }
+  uint64_t cycle() const { return top_.cycle(); }  // rising edges so far
+  uint64_t checks() const { return board_.checks(); }
+  bool failed() const { return board_.failed(); }
 
-  // One clock: inputs settle with clk_i low, rising edge, outputs settle.
-  void edge() {
-    top_->eval();
-    dump(cycle_ * kPeriodTicks + 4);
-    top_->clk_i = 1;
-    top_->eval();
-    dump(cycle_ * kPeriodTicks + 5);
-    ++cycle_;
-    top_->clk_i = 0;
-    ctx_->time(cycle_ * kPeriodTicks);
-  }
+  void edge() { top_.edge(); }
+  void reset_cycle() { top_.reset_cycle(); }
 
-  // One reset cycle: rst_ni falls with clk_i low, stays low across one rising
-  // edge (counted in cycle()) and rises again with clk_i low.
-  void reset_cycle() {
-    top_->rst_ni = 0;
-    top_->eval();
-    dump(cycle_ * kPeriodTicks + 1);
-    edge();
-    top_->rst_ni = 1;
-    top_->eval();
-    dump(cycle_ * kPeriodTicks + 2);
-  }
-
-  // Compares one output port; the first mismatch fails the test with the
-  // cycle, the port, both values and the seed. Returns true while all match.
+  // Compares one output port (Scoreboard::check at this cycle).
   template <class R, class M>
   bool check(const char* port, R rtl, M model) {
-    static_assert(std::is_integral_v<R> && std::is_integral_v<M>);
-    ++checks_;
-    const auto rtl_value = static_cast<uint64_t>(rtl);
-    const auto model_value = static_cast<uint64_t>(model);
-    if (rtl_value == model_value) {
-      return true;
-    }
-    if (!failed_) {
-      failed_ = true;
-      std::ostringstream msg;
-      msg << name_ << ": mismatch at cycle " << cycle_ << " on port " << port << ": rtl=0x"
-          << std::hex << rtl_value << " model=0x" << model_value << std::dec << " (seed " << seed_
-          << "; rerun with CEILNAV_COSIM_SEED=" << seed_ << ")";
-      ADD_FAILURE() << msg.str();
-    }
-    return false;
+    return board_.check(top_.cycle(), port, rtl, model);
   }
-
-  // Prints what was compared (for the soak logs and the report).
-  void report() const {
-    std::printf("[cosim] %s: seed %llu, %llu cycles, %llu port comparisons\n", name_.c_str(),
-                static_cast<unsigned long long>(seed_), static_cast<unsigned long long>(cycle_),
-                static_cast<unsigned long long>(checks_));
-  }
-
-  // Fails the test with a message that carries the seed (stimulus errors).
-  void fail(const std::string& what) {
-    if (!failed_) {
-      failed_ = true;
-      ADD_FAILURE() << name_ << ": " << what << " at cycle " << cycle_ << " (seed " << seed_
-                    << "; rerun with CEILNAV_COSIM_SEED=" << seed_ << ")";
-    }
-  }
+  void fail(const std::string& what) { board_.fail(top_.cycle(), what); }
+  void report() const { board_.report(top_.cycle()); }
 
   // The coverage counters of this context, written where CEILNAV_COVERAGE_DIR
   // says (no-op in a build without coverage or without the variable).
@@ -235,28 +149,16 @@ class Cosim {
     }
     std::replace(test.begin(), test.end(), '/', '_');
     // The seed in the name: runs of one test with several seeds add up.
-    const std::string path = std::string(dir) + "/" + test + "." + name_ + ".s" +
-                             std::to_string(seed_) + "." + std::to_string(serial++) + ".dat";
-    ctx_->coveragep()->write(path.c_str());
+    const std::string path = std::string(dir) + "/" + test + "." + board_.name() + ".s" +
+                             std::to_string(board_.seed()) + "." + std::to_string(serial++) +
+                             ".dat";
+    top_.ctx().coveragep()->write(path.c_str());
 #endif
   }
 
  private:
-  void dump(uint64_t time) {
-    ctx_->time(time);
-    if (fst_) {
-      fst_->dump(time);
-    }
-  }
-
-  std::string name_;
-  uint64_t seed_;
-  std::unique_ptr<VerilatedContext> ctx_;
-  std::unique_ptr<Top> top_;
-  std::unique_ptr<VerilatedFstC> fst_;
-  uint64_t cycle_ = 0;
-  uint64_t checks_ = 0;
-  bool failed_ = false;
+  Scoreboard board_;
+  VerilatedTop<Top, FstTrace> top_;
 };
 
 }  // namespace ceilnav::testbench

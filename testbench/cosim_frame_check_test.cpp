@@ -11,13 +11,12 @@
 #include "stream/beat.hpp"
 #include "stream/frame_check.hpp"
 #include "stream/tests/video_source.hpp"
-#include "testbench/cosim_common.hpp"
+#include "testbench/block_bench.hpp"
+#include "testbench/ports.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "Vframe_check.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 namespace {
@@ -30,72 +29,46 @@ struct VideoCycle {
   VideoBeat beat;
   uint16_t cfg_width = 1;  // 12-bit port: 0 .. 4095
   uint16_t cfg_height = 1;
-  bool reset = false;  // reset_cycle() before this cycle's edge
+  bool reset_before = false;  // reset_cycle() before this cycle's edge
 };
 
-class FrameCheckBench {
- public:
-  FrameCheckBench(const std::string& name, uint64_t seed) : sim_(name, seed) { compare(); }
+// frame_check's ports for BlockBench.
+struct FrameCheckPorts {
+  using Stim = VideoCycle;
 
-  Cosim<Vframe_check>& sim() { return sim_; }
-  const FrameCheck& model() const { return model_; }
-
-  void run(const std::vector<VideoCycle>& cycles) {
-    for (const VideoCycle& c : cycles) {
-      if (sim_.failed()) {
-        return;
-      }
-      if (c.reset) {
-        sim_.reset_cycle();
-        model_.reset();
-        compare();
-      }
-      step(c);
-    }
-  }
-
-  void step(const VideoCycle& c) {
-    Vframe_check& d = sim_.dut();
-    d.s_axis_video_tdata_i = c.beat.tdata;
-    d.s_axis_video_tvalid_i = c.beat.tvalid;
-    d.s_axis_video_tuser_i = c.beat.tuser;
-    d.s_axis_video_tlast_i = c.beat.tlast;
+  void drive(Vframe_check& d, const VideoCycle& c) {
+    drive_s_axis_video(d, c.beat);
     d.cfg_width_i = c.cfg_width;
     d.cfg_height_i = c.cfg_height;
-    model_.clock(c.beat, c.cfg_width, c.cfg_height);
-    sim_.edge();
-    compare();
-    sof_pixels_ += (model_.m_pix().valid && model_.m_pix().sof) ? 1u : 0u;
+  }
+  void clock(FrameCheck& m, const VideoCycle& c) { m.clock(c.beat, c.cfg_width, c.cfg_height); }
+  bool compare(Cosim<Vframe_check>& sim, const FrameCheck& m) {
+    const Vframe_check& d = sim.dut();
+    const stream::PixelBeat& p = m.m_pix();
+    const stream::FrameErrorCounters& k = m.counters();
+    bool ok = sim.check("s_axis_video_tready_o", d.s_axis_video_tready_o, 1);
+    ok = sim.check("m_pix_valid_o", d.m_pix_valid_o, p.valid) && ok;
+    ok = sim.check("m_pix_grey_o", d.m_pix_grey_o, p.grey) && ok;
+    ok = sim.check("m_pix_x_o", d.m_pix_x_o, p.x) && ok;
+    ok = sim.check("m_pix_y_o", d.m_pix_y_o, p.y) && ok;
+    ok = sim.check("m_pix_sof_o", d.m_pix_sof_o, p.sof) && ok;
+    ok = sim.check("m_pix_eol_o", d.m_pix_eol_o, p.eol) && ok;
+    ok = sim.check("m_pix_eof_o", d.m_pix_eof_o, p.eof) && ok;
+    ok = sim.check("m_pix_abort_o", d.m_pix_abort_o, p.abort) && ok;
+    ok = sim.check("early_eol_o", d.early_eol_o, k.early_eol) && ok;
+    ok = sim.check("late_eol_o", d.late_eol_o, k.late_eol) && ok;
+    ok = sim.check("early_sof_o", d.early_sof_o, k.early_sof) && ok;
+    ok = sim.check("missing_sof_o", d.missing_sof_o, k.missing_sof) && ok;
+    ok = sim.check("frames_ok_o", d.frames_ok_o, k.frames_ok) && ok;
+    ok = sim.check("frames_aborted_o", d.frames_aborted_o, k.frames_aborted) && ok;
+    sof_pixels += (p.valid && p.sof) ? 1u : 0u;
+    return ok;
   }
 
-  uint64_t sof_pixels() const { return sof_pixels_; }  // frames opened, across resets
-
- private:
-  void compare() {
-    const Vframe_check& d = sim_.dut();
-    const stream::PixelBeat& p = model_.m_pix();
-    const stream::FrameErrorCounters& k = model_.counters();
-    sim_.check("s_axis_video_tready_o", d.s_axis_video_tready_o, 1);
-    sim_.check("m_pix_valid_o", d.m_pix_valid_o, p.valid);
-    sim_.check("m_pix_grey_o", d.m_pix_grey_o, p.grey);
-    sim_.check("m_pix_x_o", d.m_pix_x_o, p.x);
-    sim_.check("m_pix_y_o", d.m_pix_y_o, p.y);
-    sim_.check("m_pix_sof_o", d.m_pix_sof_o, p.sof);
-    sim_.check("m_pix_eol_o", d.m_pix_eol_o, p.eol);
-    sim_.check("m_pix_eof_o", d.m_pix_eof_o, p.eof);
-    sim_.check("m_pix_abort_o", d.m_pix_abort_o, p.abort);
-    sim_.check("early_eol_o", d.early_eol_o, k.early_eol);
-    sim_.check("late_eol_o", d.late_eol_o, k.late_eol);
-    sim_.check("early_sof_o", d.early_sof_o, k.early_sof);
-    sim_.check("missing_sof_o", d.missing_sof_o, k.missing_sof);
-    sim_.check("frames_ok_o", d.frames_ok_o, k.frames_ok);
-    sim_.check("frames_aborted_o", d.frames_aborted_o, k.frames_aborted);
-  }
-
-  Cosim<Vframe_check> sim_;
-  FrameCheck model_;
-  uint64_t sof_pixels_ = 0;
+  uint64_t sof_pixels = 0;  // frames opened, across resets
 };
+
+using FrameCheckBench = BlockBench<Vframe_check, FrameCheck, FrameCheckPorts>;
 
 // What goes wrong in a generated frame.
 enum class Fault {
@@ -218,7 +191,7 @@ void append_frame(std::vector<VideoCycle>& out, Rng& rng, StimulusState& st, int
   if (rng.chance(reset_prob) && out.size() > first) {
     const auto at = static_cast<size_t>(
         rng.uniform(static_cast<int64_t>(first), static_cast<int64_t>(out.size() - 1)));
-    out[at].reset = true;
+    out[at].reset_before = true;
   }
 }
 
@@ -274,7 +247,7 @@ TEST(CosimFrameCheck, MalformedStreamsAndResets) {
   run_random(bench, rng, cosim_count(1'000'000), 0.5, 0.03);
   bench.sim().report();
   // Counters restart at every reset; frames must still have gone through.
-  EXPECT_GT(bench.sof_pixels(), 300u);
+  EXPECT_GT(bench.ports().sof_pixels, 300u);
 }
 
 TEST(CosimFrameCheck, EveryFaultClassIsHit) {

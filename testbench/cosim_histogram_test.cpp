@@ -14,13 +14,13 @@
 #include "stream/beat.hpp"
 #include "stream/histogram.hpp"
 #include "stream/tests/video_source.hpp"
-#include "testbench/cosim_common.hpp"
+#include "testbench/block_bench.hpp"
+#include "testbench/ports.hpp"
+#include "testbench/video_stream.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "Vhistogram.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 namespace {
@@ -35,55 +35,37 @@ struct HistCycle {
   bool keep = true;  // with an EOF: the pipeline publishes the frame
   bool rd_en = false;
   uint8_t rd_bin = 0;
-  bool reset = false;  // reset_cycle() before this cycle's edge
+  bool reset_before = false;  // reset_cycle() before this cycle's edge
 };
 
-class HistogramBench {
- public:
-  HistogramBench(const std::string& name, uint64_t seed) : sim_(name, seed) { compare(); }
+// histogram's ports for BlockBench.
+struct HistogramPorts {
+  using Stim = HistCycle;
 
-  Cosim<Vhistogram>& sim() { return sim_; }
-  const Histogram& model() const { return model_; }
-
-  void step(const HistCycle& c) {
-    if (c.reset) {
-      sim_.reset_cycle();
-      model_.reset();
-      compare();
-    }
-    Vhistogram& d = sim_.dut();
-    d.s_lut_valid_i = c.in.pix.valid;
-    d.s_lut_grey_i = c.in.pix.grey;
-    d.s_lut_x_i = c.in.pix.x;
-    d.s_lut_y_i = c.in.pix.y;
-    d.s_lut_sof_i = c.in.pix.sof;
-    d.s_lut_eol_i = c.in.pix.eol;
-    d.s_lut_eof_i = c.in.pix.eof;
-    d.s_lut_abort_i = c.in.pix.abort;
-    d.s_lut_remap_i = c.in.remap;
-    d.s_lut_mask_i = c.in.mask;
+  void drive(Vhistogram& d, const HistCycle& c) {
+    drive_s_lut(d, c.in);
     d.source_remap_i = c.source_remap;
     d.keep_i = c.keep;
     d.hist_rd_en_i = c.rd_en;
     d.hist_rd_bin_i = c.rd_bin;
-    // count_ok_o is Mealy: compared with the inputs applied, before the edge.
-    d.eval();
-    sim_.check("count_ok_o", d.count_ok_o, model_.counts(c.in));
-    model_.clock(c.in, c.source_remap, c.keep, c.rd_en, c.rd_bin);
-    sim_.edge();
-    compare();
   }
-
- private:
-  void compare() {
-    const Vhistogram& d = sim_.dut();
-    sim_.check("done_o", d.done_o, model_.done());
-    sim_.check("hist_rd_data_o", d.hist_rd_data_o, model_.hist_rd_data());
+  // count_ok_o is Mealy: compared with the inputs applied, before the edge.
+  void before_edge(Cosim<Vhistogram>& sim, const Histogram& m, const HistCycle& c) {
+    sim.dut().eval();
+    sim.check("count_ok_o", sim.dut().count_ok_o, m.counts(c.in));
   }
-
-  Cosim<Vhistogram> sim_;
-  Histogram model_;
+  void clock(Histogram& m, const HistCycle& c) {
+    m.clock(c.in, c.source_remap, c.keep, c.rd_en, c.rd_bin);
+  }
+  bool compare(Cosim<Vhistogram>& sim, const Histogram& m) {
+    const Vhistogram& d = sim.dut();
+    bool ok = sim.check("done_o", d.done_o, m.done());
+    ok = sim.check("hist_rd_data_o", d.hist_rd_data_o, m.hist_rd_data()) && ok;
+    return ok;
+  }
 };
+
+using HistogramBench = BlockBench<Vhistogram, Histogram, HistogramPorts>;
 
 // How the pixel values of a frame are drawn.
 enum class Values { kUniform, kFewBins, kConstant, kRuns, kCount };
@@ -203,15 +185,8 @@ void random_size(Rng& rng, int& width, int& height) {
   if (pick < 4) {
     width = 1;
     height = 1;
-  } else if (pick < 12) {
-    width = static_cast<int>(rng.uniform(1, 8));
-    height = static_cast<int>(rng.uniform(1, 8));
-  } else if (pick < 19) {
-    width = static_cast<int>(rng.uniform(1, 80));
-    height = static_cast<int>(rng.uniform(1, 60));
   } else {
-    width = static_cast<int>(rng.uniform(1, 640));
-    height = static_cast<int>(rng.uniform(1, std::min<int64_t>(480, 40000 / width)));
+    pixel_frame_size(rng, pick, 12, 19, width, height);
   }
 }
 
@@ -262,7 +237,7 @@ TEST(CosimHistogram, RandomFramesAbortsReadsAndResets) {
       }
     }
     if (!cycles.empty() && rng.chance(0.02)) {
-      cycles[rng.index(cycles.size())].reset = true;
+      cycles[rng.index(cycles.size())].reset_before = true;
     }
     for (const HistCycle& c : cycles) {
       if (bench.sim().failed()) {

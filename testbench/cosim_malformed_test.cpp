@@ -21,6 +21,7 @@
 #include "stream/pipeline.hpp"
 #include "testbench/cosim_common.hpp"
 #include "testbench/top_cosim.hpp"
+#include "testbench/video_stream.hpp"
 
 namespace ceilnav::testbench {
 namespace {
@@ -62,47 +63,13 @@ class Bench : public DeviceBench {
 
 // Dark noise with bright rectangles (runs for the scanner, a spread histogram).
 std::vector<uint8_t> frame_pixels(Rng& rng, int w, int h) {
-  std::vector<uint8_t> px(static_cast<size_t>(w) * static_cast<size_t>(h));
-  const auto dark = rng.uniform(10, 80);
-  for (auto& p : px) p = rng.uniform_as<uint8_t>(0, dark);
-  const auto blobs = rng.uniform(2, 6);
-  for (int64_t b = 0; b < blobs; ++b) {
-    const auto x0 = static_cast<int>(rng.uniform(0, w - 1));
-    const auto y0 = static_cast<int>(rng.uniform(0, h - 1));
-    const auto bw = static_cast<int>(rng.uniform(1, w / 3));
-    const auto bh = static_cast<int>(rng.uniform(1, h / 3));
-    const auto level = static_cast<int>(rng.uniform(120, 255));
-    for (int y = y0; y < std::min(h, y0 + bh); ++y) {
-      for (int x = x0; x < std::min(w, x0 + bw); ++x) {
-        px[static_cast<size_t>(y * w + x)] =
-            static_cast<uint8_t>(level - static_cast<int>(rng.uniform(0, 30)));
-      }
-    }
-  }
-  return px;
+  return blob_pixels(rng, w, h, BlobStyle{10, 80, 2, 6, 1, 120});
 }
 
-// The pixel beats of a well-formed frame (no gaps).
-std::vector<VideoBeat> frame_beats(const std::vector<uint8_t>& px, int w) {
-  std::vector<VideoBeat> beats(px.size());
-  for (size_t i = 0; i < px.size(); ++i) {
-    beats[i].tvalid = true;
-    beats[i].tdata = px[i];
-    beats[i].tuser = i == 0;
-    beats[i].tlast = static_cast<int>(i % static_cast<size_t>(w)) == w - 1;
-  }
-  return beats;
-}
-
-// Blanking, then the beats with random tvalid gaps between them.
+// Blanking (up to 40 idle beats) if `blanking`, then the beats with random
+// tvalid gaps between them.
 void enqueue(Bench& b, const std::vector<VideoBeat>& beats, double gap_p, bool blanking) {
-  Rng& rng = b.rng();
-  const int64_t idle = blanking ? rng.uniform(0, 40) : 0;
-  for (int64_t k = 0; k < idle; ++k) b.video().push_back(VideoBeat{});
-  for (const VideoBeat& beat : beats) {
-    while (rng.chance(gap_p)) b.video().push_back(VideoBeat{});
-    b.video().push_back(beat);
-  }
+  b.queue(beats, gap_p, blanking ? 40 : -1, b.rng());
 }
 
 enum class Malform : uint8_t {
@@ -229,7 +196,7 @@ void run_class(Malform m, uint64_t seed) {
   const int total = kWidth * kHeight;
   // ---- Frame 1, good.
   const std::vector<uint8_t> px1 = frame_pixels(rng, kWidth, kHeight);
-  enqueue(b, frame_beats(px1, kWidth), c.gap_p, true);
+  enqueue(b, video_beats(px1, kWidth), c.gap_p, true);
   b.drain_video();
   {
     const uint32_t intr = b.read(r::intr_state::kOffset);
@@ -247,7 +214,7 @@ void run_class(Malform m, uint64_t seed) {
 
   // ---- Frame 2, malformed; frame 3, good.
   std::vector<uint8_t> px2 = frame_pixels(rng, kWidth, kHeight);
-  std::vector<VideoBeat> bad = frame_beats(px2, kWidth);
+  std::vector<VideoBeat> bad = video_beats(px2, kWidth);
   const std::vector<uint8_t> px3 = frame_pixels(rng, kWidth, kHeight);
   Expect e;
   bool back_to_back = false;
@@ -288,7 +255,7 @@ void run_class(Malform m, uint64_t seed) {
       const auto extra = static_cast<size_t>(rng.uniform(1, 3));
       std::vector<uint8_t> more = frame_pixels(rng, kWidth, kHeight);
       more.resize(extra * kWidth);
-      std::vector<VideoBeat> tail = frame_beats(more, kWidth);
+      std::vector<VideoBeat> tail = video_beats(more, kWidth);
       tail[0].tuser = false;
       bad.insert(bad.end(), tail.begin(), tail.end());
       e.delta.frames_ok = 1;
@@ -370,7 +337,7 @@ void run_class(Malform m, uint64_t seed) {
       EXPECT_EQ(b.read(r::res_frame_index::kOffset), 0u) << "the malformed frame was published";
     }
   }
-  enqueue(b, frame_beats(px3, kWidth), c.gap_p, !back_to_back);
+  enqueue(b, video_beats(px3, kWidth), c.gap_p, !back_to_back);
   b.drain_video();
 
   // ---- After frame 3.

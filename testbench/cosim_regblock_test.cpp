@@ -12,9 +12,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "cosim_common.hpp"
 #include "rbtest/regblock.hpp"
 #include "stream/axi_lite.hpp"
+#include "testbench/cosim_common.hpp"
+#include "testbench/ports.hpp"
 
 #if RBTEST_HAS_EXTRA
 #include "Vrbtest_regblock.h"
@@ -27,7 +28,9 @@ using Dut = Vrbtest_regblock_small;
 namespace {
 
 using ceilnav::stream::AxiLiteIn;
+using ceilnav::testbench::check_s_axil;
 using ceilnav::testbench::Cosim;
+using ceilnav::testbench::drive_s_axil;
 using ceilnav::testbench::Rng;
 using rbtest::stream::Hw2Reg;
 using rbtest::stream::kHw2RegBits;
@@ -118,15 +121,7 @@ void run(uint64_t seed, uint64_t cycles) {
     in.rready = rng.chance(0.7);
     const Hw2Reg hw = random_hw(rng);
 
-    dut.s_axil_awaddr_i = in.awaddr;
-    dut.s_axil_awvalid_i = in.awvalid;
-    dut.s_axil_wdata_i = in.wdata;
-    dut.s_axil_wstrb_i = in.wstrb;
-    dut.s_axil_wvalid_i = in.wvalid;
-    dut.s_axil_bready_i = in.bready;
-    dut.s_axil_araddr_i = in.araddr;
-    dut.s_axil_arvalid_i = in.arvalid;
-    dut.s_axil_rready_i = in.rready;
+    drive_s_axil(dut, in);
     std::array<uint32_t, kHw2RegWords> hw_words{};
     rbtest::stream::pack_hw2reg(hw, hw_words.data());
     from_words(dut.hw2reg_i, hw_words.data(), kHw2RegWords);
@@ -147,14 +142,7 @@ void run(uint64_t seed, uint64_t cycles) {
     model.commit(in, hw);
     const auto& out = model.out();
     sim.check("irq_rise_o", rtl_rise, model.irq_rise());
-    sim.check("s_axil_awready_o", dut.s_axil_awready_o, out.awready);
-    sim.check("s_axil_wready_o", dut.s_axil_wready_o, out.wready);
-    sim.check("s_axil_bvalid_o", dut.s_axil_bvalid_o, out.bvalid);
-    sim.check("s_axil_bresp_o", dut.s_axil_bresp_o, out.bresp);
-    sim.check("s_axil_arready_o", dut.s_axil_arready_o, out.arready);
-    sim.check("s_axil_rvalid_o", dut.s_axil_rvalid_o, out.rvalid);
-    sim.check("s_axil_rdata_o", dut.s_axil_rdata_o, out.rdata);
-    sim.check("s_axil_rresp_o", dut.s_axil_rresp_o, out.rresp);
+    check_s_axil(sim, dut, out);
     if (out.rvalid && in.rready && out.rresp == 0) ++okay_reads;
     if (out.bvalid && in.bready && out.bresp == 0) ++okay_writes;
     if (model.irq_rise()) ++irq_rises;

@@ -18,6 +18,7 @@
 #include "stream/pipeline.hpp"
 #include "testbench/cosim_common.hpp"
 #include "testbench/top_cosim.hpp"
+#include "testbench/video_stream.hpp"
 
 namespace ceilnav::testbench {
 namespace {
@@ -43,42 +44,15 @@ class Bench : public DeviceBench {
 };
 
 // Dark noise with bright rectangles (at least 4 pixels wide where the
-// frame allows: runs for every MIN_RUN_LENGTH used here).
+// frame allows: runs for every MIN_RUN_LENGTH used here; at least 110, above
+// every random_lut threshold).
 std::vector<uint8_t> frame_pixels(Rng& rng, int w, int h) {
-  std::vector<uint8_t> px(static_cast<size_t>(w) * static_cast<size_t>(h));
-  for (auto& p : px) p = rng.uniform_as<uint8_t>(0, 70);
-  const auto blobs = rng.uniform(2, 6);
-  for (int64_t b = 0; b < blobs; ++b) {
-    const auto x0 = static_cast<int>(rng.uniform(0, w - 1));
-    const auto y0 = static_cast<int>(rng.uniform(0, h - 1));
-    const auto bw = static_cast<int>(rng.uniform(std::min(4, w), std::max(4, w / 3)));
-    const auto bh = static_cast<int>(rng.uniform(1, h / 3));
-    // >= 110 after the -30 below: above every random_lut threshold.
-    const auto level = static_cast<int>(rng.uniform(140, 255));
-    for (int y = y0; y < std::min(h, y0 + bh); ++y) {
-      for (int x = x0; x < std::min(w, x0 + bw); ++x) {
-        px[static_cast<size_t>(y * w + x)] =
-            static_cast<uint8_t>(level - static_cast<int>(rng.uniform(0, 30)));
-      }
-    }
-  }
-  return px;
+  return blob_pixels(rng, w, h, BlobStyle{70, 70, 2, 6, 4, 140});
 }
 
-// Blanking, then a well-formed frame with random tvalid gaps.
+// Blanking (up to 30 idle beats), then a well-formed frame with random tvalid gaps.
 void enqueue(Bench& b, const std::vector<uint8_t>& px, int w, double gap_p) {
-  Rng& rng = b.rng();
-  const int64_t idle = rng.uniform(0, 30);
-  for (int64_t k = 0; k < idle; ++k) b.video().push_back(VideoBeat{});
-  for (size_t i = 0; i < px.size(); ++i) {
-    while (rng.chance(gap_p)) b.video().push_back(VideoBeat{});
-    VideoBeat beat;
-    beat.tvalid = true;
-    beat.tdata = px[i];
-    beat.tuser = i == 0;
-    beat.tlast = static_cast<int>(i % static_cast<size_t>(w)) == w - 1;
-    b.video().push_back(beat);
-  }
+  b.queue(video_beats(px, w), gap_p, 30, b.rng());
 }
 
 // A random LUT: remap and mask independent, so a wrong bank shows in both

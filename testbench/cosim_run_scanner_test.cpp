@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-
 // First: it includes verilated.h with the warnings that it trips switched off.
-#include "testbench/cosim_common.hpp"
+#include "testbench/block_bench.hpp"
+#include "testbench/lut_stream.hpp"
+#include "testbench/ports.hpp"
 
 #include "Vrun_scanner.h"
 #include "Vrun_scanner_d8.h"
@@ -23,6 +23,7 @@
 #include "stream/beat.hpp"
 #include "stream/run_scanner.hpp"
 #include "stream/tests/beat_source.hpp"
+#include "stream/tests/video_source.hpp"
 
 namespace ceilnav::testbench {
 namespace {
@@ -54,115 +55,75 @@ struct Events {
   uint64_t trailers_lost = 0;  // across resets
 };
 
+// run_scanner's ports for BlockBench (either FIFO depth); counts what the
+// stream reached in `events`.
 template <class Top>
-class RunScannerBench {
- public:
-  RunScannerBench(const std::string& name, uint64_t seed, uint32_t depth)
-      : sim_(name, seed), model_(depth) {
-    compare();
-  }
+struct RunScannerPorts {
+  using Stim = testbench::Stim;
 
-  bool step(const Stim& s) {
-    if (s.reset_before) {
-      sim_.reset_cycle();
-      model_.reset();
-      if (!compare()) return false;
-    }
-    auto& d = sim_.dut();
-    const LutBeat& in = s.beat;
-    d.s_lut_valid_i = in.pix.valid;
-    d.s_lut_grey_i = in.pix.grey;
-    d.s_lut_x_i = in.pix.x;
-    d.s_lut_y_i = in.pix.y;
-    d.s_lut_sof_i = in.pix.sof;
-    d.s_lut_eol_i = in.pix.eol;
-    d.s_lut_eof_i = in.pix.eof;
-    d.s_lut_abort_i = in.pix.abort;
-    d.s_lut_remap_i = in.remap;
-    d.s_lut_mask_i = in.mask;
+  void drive(Top& d, const Stim& s) {
+    drive_s_lut(d, s.beat);
     d.cfg_background_level_i = s.cfg.background_level;
     d.cfg_min_run_length_i = s.cfg.min_run_length;
     d.cfg_max_runs_per_row_i = s.cfg.max_runs_per_row;
     d.m_axis_runs_tready_i = s.tready;
-    // The beat on the output before the edge is transferred if tready.
-    const stream::RunBeat before = model_.m_axis_runs();
+  }
+  // The beat on the output before the edge is transferred if tready.
+  void before_edge(Cosim<Top>& /*sim*/, const RunScanner& m, const Stim& s) {
+    const stream::RunBeat before = m.m_axis_runs();
     if (before.tvalid && s.tready) {
       if (before.tlast) {
-        ++events_.trailers;
-        if (before.tdata.x_start & stream::kTrailerFrameAborted) ++events_.aborted;
-        if (before.tdata.x_start & stream::kTrailerFifoOverflow) ++events_.overflowed;
+        ++events.trailers;
+        if (before.tdata.x_start & stream::kTrailerFrameAborted) ++events.aborted;
+        if (before.tdata.x_start & stream::kTrailerFifoOverflow) ++events.overflowed;
       } else {
-        ++events_.runs;
+        ++events.runs;
       }
     }
-    model_.set_active_config(s.cfg);
-    sim_.edge();
-    model_.clock(in, s.tready);
-    if (sim_.ctx().gotError()) {
-      sim_.fail("RTL assertion failed");
-      return false;
-    }
-    return compare();
   }
-
-  bool run(const std::vector<Stim>& stim) {
-    for (const Stim& s : stim) {
-      if (!step(s)) return false;
-    }
-    return true;
+  void clock(RunScanner& m, const Stim& s) {
+    m.set_active_config(s.cfg);
+    m.clock(s.beat, s.tready);
   }
-
-  uint64_t cycles() const { return sim_.cycle(); }
-  const Events& events() const { return events_; }
-  const RunScanner& model() const { return model_; }
-
- private:
-  bool compare() {
-    auto& d = sim_.dut();
-    const stream::RunBeat out = model_.m_axis_runs();
-    const stream::RunBeatWords words = stream::pack_run_beat(out.tdata);
+  bool compare(Cosim<Top>& sim, const RunScanner& m) {
+    auto& d = sim.dut();
+    const stream::RunBeat out = m.m_axis_runs();
     // One packing for all: the model's record must survive it.
     bool ok =
-        sim_.check("pack_run_beat round trip", stream::unpack_run_beat(words) == out.tdata, true);
-    ok = sim_.check("m_axis_runs_tvalid_o", d.m_axis_runs_tvalid_o, out.tvalid) && ok;
-    ok = sim_.check("m_axis_runs_tlast_o", d.m_axis_runs_tlast_o, out.tlast) && ok;
-    static const char* const kWordNames[4] = {
-        "m_axis_runs_tdata_o[31:0]", "m_axis_runs_tdata_o[63:32]", "m_axis_runs_tdata_o[95:64]",
-        "m_axis_runs_tdata_o[111:96]"};
-    for (size_t i = 0; i < 4; ++i) {
-      ok = sim_.check(kWordNames[i], d.m_axis_runs_tdata_o[i], words[i]) && ok;
-    }
-    const stream::RunStats& st = model_.last_frame_stats();
-    ok = sim_.check("done_o", d.done_o, model_.done()) && ok;
-    ok = sim_.check("runs_emitted_o", d.runs_emitted_o, st.runs_emitted) && ok;
-    ok = sim_.check("runs_dropped_row_limit_o", d.runs_dropped_row_limit_o,
-                    st.runs_dropped_row_limit) &&
+        sim.check("pack_run_beat round trip",
+                  stream::unpack_run_beat(stream::pack_run_beat(out.tdata)) == out.tdata, true);
+    ok = check_m_axis_runs(sim, d, out) && ok;
+    const stream::RunStats& st = m.last_frame_stats();
+    ok = sim.check("done_o", d.done_o, m.done()) && ok;
+    ok = sim.check("runs_emitted_o", d.runs_emitted_o, st.runs_emitted) && ok;
+    ok = sim.check("runs_dropped_row_limit_o", d.runs_dropped_row_limit_o,
+                   st.runs_dropped_row_limit) &&
          ok;
-    ok = sim_.check("runs_dropped_overflow_o", d.runs_dropped_overflow_o,
-                    st.runs_dropped_overflow) &&
-         ok;
-    ok = sim_.check("fifo_high_water_o", d.fifo_high_water_o, st.fifo_high_water) && ok;
-    ok = sim_.check("fifo_occupancy_o", d.fifo_occupancy_o, model_.fifo_occupancy()) && ok;
-    ok = sim_.check("trailers_lost_o", d.trailers_lost_o, model_.trailers_lost()) && ok;
-    if (model_.done()) ++events_.done;
-    if (model_.trailers_lost() > lost_seen_)
-      events_.trailers_lost += model_.trailers_lost() - lost_seen_;
-    lost_seen_ = model_.trailers_lost();
-    events_.max_occupancy = std::max(events_.max_occupancy, model_.fifo_occupancy());
+    ok =
+        sim.check("runs_dropped_overflow_o", d.runs_dropped_overflow_o, st.runs_dropped_overflow) &&
+        ok;
+    ok = sim.check("fifo_high_water_o", d.fifo_high_water_o, st.fifo_high_water) && ok;
+    ok = sim.check("fifo_occupancy_o", d.fifo_occupancy_o, m.fifo_occupancy()) && ok;
+    ok = sim.check("trailers_lost_o", d.trailers_lost_o, m.trailers_lost()) && ok;
+    if (m.done()) ++events.done;
+    if (m.trailers_lost() > lost_seen) events.trailers_lost += m.trailers_lost() - lost_seen;
+    lost_seen = m.trailers_lost();
+    events.max_occupancy = std::max(events.max_occupancy, m.fifo_occupancy());
     return ok;
   }
 
-  Cosim<Top> sim_;
-  RunScanner model_;
-  Events events_;
-  uint32_t lost_seen_ = 0;
+  Events events;
+  uint32_t lost_seen = 0;
 };
 
+template <class Top>
+using RunScannerBench = BlockBench<Top, RunScanner, RunScannerPorts<Top>>;
+
 // Random legal LutBeat streams with a random config port and tready.
-class StimGen {
+class StimGen : public LutStreamGen<StimGen, Stim> {
  public:
   StimGen(uint64_t seed, uint32_t max_stall_cycles)
-      : rng_(seed), mt_(static_cast<uint32_t>(seed)), max_stall_(max_stall_cycles) {
+      : LutStreamGen(seed, LutStreamShape{}), max_stall_(max_stall_cycles) {
     cfg_ = random_config();
   }
 
@@ -223,73 +184,16 @@ class StimGen {
     stall_ = false;
   }
 
-  void random_size(uint16_t& w, uint16_t& h) {
-    const int64_t kind = rng_.uniform(0, 999);
-    if (kind < 600) {
-      w = rng_.uniform_as<uint16_t>(1, 12);
-      h = rng_.uniform_as<uint16_t>(1, 12);
-    } else if (kind < 900) {
-      w = rng_.uniform_as<uint16_t>(1, 64);
-      h = rng_.uniform_as<uint16_t>(1, 48);
-    } else if (kind < 998) {
-      w = rng_.uniform_as<uint16_t>(1, 200);
-      h = rng_.uniform_as<uint16_t>(1, 150);
-    } else {
-      w = rng_.uniform_as<uint16_t>(320, 640);
-      h = rng_.uniform_as<uint16_t>(200, 480);
-    }
-  }
-
-  // Appends one frame (possibly cut short) and the blanking after it.
-  void append_frame(std::vector<Stim>& out, const LutFrame& f) {
-    static constexpr double kGapChoices[] = {0.0, 0.0, 0.0, 0.05, 0.2, 0.6};
-    const double gap = kGapChoices[rng_.uniform(0, 5)];
-    const int64_t mode = rng_.uniform(0, 199);
-    const auto pixels = static_cast<int64_t>(f.pixels());
-    std::vector<LutBeat> beats;
-    bool combine_abort_with_next_sof = false;
-    size_t reset_at = SIZE_MAX;
-    if (mode < 140) {
-      stream::test::append_frame(beats, f, mt_, gap);
-    } else if (mode < 165) {  // abort beat (valid = 0) after some pixels
-      stream::test::append_frame(beats, f, mt_, gap, rng_.uniform(0, pixels - 1));
-    } else if (mode < 196) {  // early SOF: the next frame's SOF beat carries the abort
-      stream::test::append_frame(beats, f, mt_, gap, rng_.uniform(0, pixels - 1));
-      beats.pop_back();
-      combine_abort_with_next_sof = true;
-    } else {  // reset somewhere in the frame
-      stream::test::append_frame(beats, f, mt_, gap);
-      reset_at = static_cast<size_t>(rng_.uniform(0, static_cast<int64_t>(beats.size()) - 1));
-    }
-    for (size_t i = 0; i < beats.size(); ++i) {
-      Stim s = make(beats[i]);
-      if (pending_abort_ && s.beat.pix.valid) {
-        s.beat.pix.abort = true;  // combined abort + SOF beat (frame_check's early SOF)
-        pending_abort_ = false;
-      }
-      s.reset_before = i == reset_at;
+  // LutStreamGen's hooks: the config port and tready on every cycle.
+  void begin_frame(const LutFrame& /*f*/) {}
+  Stim make_blank() { return make(blank_beat()); }
+  LutFrame frame(uint16_t w, uint16_t h) { return stream::test::random_frame(mt_, w, h); }
+  // Drain: tready high until the FIFO must be empty.
+  void drain(std::vector<Stim>& out) {
+    for (int i = 0; i < 1100; ++i) {
+      Stim s = make(LutBeat{});
+      s.tready = true;
       out.push_back(s);
-    }
-    pending_abort_ = combine_abort_with_next_sof;
-    if (pending_abort_) return;
-    const int64_t blank_kind = rng_.uniform(0, 9);
-    const int64_t blank = blank_kind < 4   ? 0
-                          : blank_kind < 8 ? rng_.uniform(1, 10)
-                                           : rng_.uniform(10, 60);
-    for (int64_t i = 0; i < blank; ++i) {
-      LutBeat b;
-      if (rng_.chance(0.1)) {
-        b.pix.abort = true;  // abort with no frame open
-      } else if (rng_.chance(0.1)) {
-        b.pix.valid = true;  // pixel outside a frame, no SOF
-        b.pix.x = rng_.uniform_as<uint16_t>(0, 2047);
-        b.pix.y = rng_.uniform_as<uint16_t>(0, 2047);
-        b.pix.eol = rng_.chance(0.5);
-        b.pix.eof = b.pix.eol && rng_.chance(0.5);
-        b.remap = rng_.byte();
-        b.mask = rng_.chance(0.5);
-      }
-      out.push_back(make(b));
     }
   }
 
@@ -322,25 +226,9 @@ class StimGen {
     return out;
   }
 
-  void finish(std::vector<Stim>& out) {
-    if (pending_abort_) append_frame(out, stream::test::random_frame(mt_, 3, 2));
-    // Drain: tready high until the FIFO must be empty.
-    for (int i = 0; i < 1100; ++i) {
-      Stim s = make(LutBeat{});
-      s.tready = true;
-      out.push_back(s);
-    }
-  }
-
-  Rng& rng() { return rng_; }
-  std::mt19937& mt() { return mt_; }
-
  private:
-  Rng rng_;
-  std::mt19937 mt_;
   uint32_t max_stall_;
   RunScanConfig cfg_;
-  bool pending_abort_ = false;
   bool stall_ = false;
   uint32_t phase_left_ = 0;
   double p_ready_ = 1.0;
@@ -356,14 +244,21 @@ void print_events(const char* name, uint64_t cycles, const Events& e) {
       e.max_occupancy, static_cast<unsigned long long>(e.trailers_lost));
 }
 
+// Runs `stim` on the RTL with FIFO depth `depth` (Top) and the model of the
+// same depth; prints and returns what the stream reached.
+template <class Top>
+Events run_bench(const char* name, uint64_t seed, uint32_t depth, const std::vector<Stim>& stim) {
+  RunScannerBench<Top> bench(name, seed, depth);
+  EXPECT_TRUE(bench.run(stim));
+  print_events(name, bench.cycles(), bench.ports().events);
+  return bench.ports().events;
+}
+
 TEST(CosimRunScanner, RandomFramesDepth1024) {
   const uint64_t seed = cosim_seed(0x72756e31);
   StimGen gen(seed, 6000);
   const auto stim = gen.random_stream(cosim_count(1500000), 0.03);
-  RunScannerBench<Vrun_scanner> bench("run_scanner_d1024", seed, 1024);
-  EXPECT_TRUE(bench.run(stim));
-  const Events& e = bench.events();
-  print_events("run_scanner d1024", bench.cycles(), e);
+  const Events e = run_bench<Vrun_scanner>("run_scanner_d1024", seed, 1024, stim);
   EXPECT_GT(e.runs, 10000u);
   EXPECT_GT(e.aborted, 50u);
   EXPECT_GT(e.done, 200u);
@@ -376,10 +271,7 @@ TEST(CosimRunScanner, RandomFramesDepth8BackPressure) {
   const uint64_t seed = cosim_seed(0x72756e32);
   StimGen gen(seed, 400);
   const auto stim = gen.random_stream(cosim_count(1000000), 0.01);
-  RunScannerBench<Vrun_scanner_d8> bench("run_scanner_d8", seed, 8);
-  EXPECT_TRUE(bench.run(stim));
-  const Events& e = bench.events();
-  print_events("run_scanner d8", bench.cycles(), e);
+  const Events e = run_bench<Vrun_scanner_d8>("run_scanner_d8", seed, 8, stim);
   EXPECT_EQ(e.max_occupancy, 8u);
   EXPECT_GT(e.overflowed, 50u);
   EXPECT_GT(e.trailers_lost, 0u);
@@ -389,10 +281,7 @@ TEST(CosimRunScanner, TinyFramesDepth8ThreeWritesPerEdge) {
   const uint64_t seed = cosim_seed(0x72756e33);
   StimGen gen(seed, 200);
   const auto stim = gen.tiny_stream(cosim_count(200000));
-  RunScannerBench<Vrun_scanner_d8> bench("run_scanner_tiny_d8", seed, 8);
-  EXPECT_TRUE(bench.run(stim));
-  const Events& e = bench.events();
-  print_events("run_scanner tiny d8", bench.cycles(), e);
+  const Events e = run_bench<Vrun_scanner_d8>("run_scanner_tiny_d8", seed, 8, stim);
   EXPECT_GT(e.aborted, 1000u);
   EXPECT_GT(e.trailers_lost, 0u);
 }
@@ -401,10 +290,7 @@ TEST(CosimRunScanner, TinyFramesDepth1024) {
   const uint64_t seed = cosim_seed(0x72756e34);
   StimGen gen(seed, 3000);
   const auto stim = gen.tiny_stream(cosim_count(150000));
-  RunScannerBench<Vrun_scanner> bench("run_scanner_tiny_d1024", seed, 1024);
-  EXPECT_TRUE(bench.run(stim));
-  const Events& e = bench.events();
-  print_events("run_scanner tiny d1024", bench.cycles(), e);
+  const Events e = run_bench<Vrun_scanner>("run_scanner_tiny_d1024", seed, 1024, stim);
   EXPECT_GT(e.aborted, 1000u);
 }
 
@@ -412,19 +298,15 @@ TEST(CosimRunScanner, TinyFramesDepth1024) {
 // times back to back under random back-pressure, with a different config each.
 TEST(CosimRunScanner, RealPhotoBuilding) {
   const uint64_t seed = cosim_seed(0x72756e35);
-  const cv::Mat img =
-      cv::imread("/usr/share/doc/opencv-doc/examples/data/building.jpg", cv::IMREAD_GRAYSCALE);
-  ASSERT_FALSE(img.empty()) << "opencv-doc sample data missing";
-  ASSERT_TRUE(img.isContinuous());
+  const auto img = stream::test::load_photo("building.jpg");
+  ASSERT_TRUE(img) << "opencv-doc sample data missing";
   StimGen gen(seed, 3000);
   std::array<stream::LutEntry, 256> lut{};
   const int threshold = gen.rng().uniform_as<int>(100, 200);
   for (int g = 0; g < 256; ++g) {
     lut[static_cast<size_t>(g)] = stream::lut_entry(static_cast<uint8_t>(g), g >= threshold);
   }
-  const std::vector<uint8_t> grey(img.data, img.data + img.total());
-  const auto f = LutFrame::from_grey(grey, static_cast<uint16_t>(img.cols),
-                                     static_cast<uint16_t>(img.rows), lut);
+  const LutFrame f = lut_frame(*img, lut);
   std::vector<Stim> stim;
   for (int pass = 0; pass < 3; ++pass) {
     std::vector<LutBeat> beats;
@@ -438,10 +320,7 @@ TEST(CosimRunScanner, RealPhotoBuilding) {
     }
   }
   gen.finish(stim);
-  RunScannerBench<Vrun_scanner> bench("run_scanner_photo", seed, 1024);
-  EXPECT_TRUE(bench.run(stim));
-  const Events& e = bench.events();
-  print_events("run_scanner photo", bench.cycles(), e);
+  const Events e = run_bench<Vrun_scanner>("run_scanner_photo", seed, 1024, stim);
   EXPECT_EQ(e.done, 3u);
   EXPECT_GT(e.runs, 1000u);
 }

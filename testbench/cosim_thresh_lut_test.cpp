@@ -15,13 +15,12 @@
 #include "stream/beat.hpp"
 #include "stream/tests/video_source.hpp"
 #include "stream/thresh_lut.hpp"
-#include "testbench/cosim_common.hpp"
+#include "testbench/block_bench.hpp"
+#include "testbench/video_stream.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "Vthresh_lut.h"
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 namespace {
@@ -36,23 +35,14 @@ struct LutCycle {
   PixelBeat pix;
   bool frame_start = false;
   LutWrite wr;
-  bool reset = false;  // reset_cycle() before this cycle's edge
+  bool reset_before = false;  // reset_cycle() before this cycle's edge
 };
 
-class ThreshLutBench {
- public:
-  ThreshLutBench(const std::string& name, uint64_t seed) : sim_(name, seed) { compare(); }
+// thresh_lut's ports for BlockBench.
+struct ThreshLutPorts {
+  using Stim = LutCycle;
 
-  Cosim<Vthresh_lut>& sim() { return sim_; }
-  const ThreshLut& model() const { return model_; }
-
-  void step(const LutCycle& c) {
-    if (c.reset) {
-      sim_.reset_cycle();
-      model_.reset();
-      compare();
-    }
-    Vthresh_lut& d = sim_.dut();
+  void drive(Vthresh_lut& d, const LutCycle& c) {
     d.s_pix_valid_i = c.pix.valid;
     d.s_pix_grey_i = c.pix.grey;
     d.s_pix_x_i = c.pix.x;
@@ -65,40 +55,27 @@ class ThreshLutBench {
     d.lut_wr_en_i = c.wr.en;
     d.lut_wr_index_i = c.wr.index;
     d.lut_wr_data_i = c.wr.data & 0x7FFu;  // the port is 11 bits wide
-    model_.clock(c.pix, c.frame_start, c.wr);
-    sim_.edge();
-    compare();
   }
-
-  void run(const std::vector<LutCycle>& cycles) {
-    for (const LutCycle& c : cycles) {
-      if (sim_.failed()) {
-        return;
-      }
-      step(c);
-    }
+  void clock(ThreshLut& m, const LutCycle& c) { m.clock(c.pix, c.frame_start, c.wr); }
+  bool compare(Cosim<Vthresh_lut>& sim, const ThreshLut& m) {
+    const Vthresh_lut& d = sim.dut();
+    const stream::LutBeat& o = m.m_lut();
+    bool ok = sim.check("m_lut_valid_o", d.m_lut_valid_o, o.pix.valid);
+    ok = sim.check("m_lut_grey_o", d.m_lut_grey_o, o.pix.grey) && ok;
+    ok = sim.check("m_lut_x_o", d.m_lut_x_o, o.pix.x) && ok;
+    ok = sim.check("m_lut_y_o", d.m_lut_y_o, o.pix.y) && ok;
+    ok = sim.check("m_lut_sof_o", d.m_lut_sof_o, o.pix.sof) && ok;
+    ok = sim.check("m_lut_eol_o", d.m_lut_eol_o, o.pix.eol) && ok;
+    ok = sim.check("m_lut_eof_o", d.m_lut_eof_o, o.pix.eof) && ok;
+    ok = sim.check("m_lut_abort_o", d.m_lut_abort_o, o.pix.abort) && ok;
+    ok = sim.check("m_lut_remap_o", d.m_lut_remap_o, o.remap) && ok;
+    ok = sim.check("m_lut_mask_o", d.m_lut_mask_o, o.mask) && ok;
+    ok = sim.check("m_lut_class_o", d.m_lut_class_o, o.cls) && ok;
+    return ok;
   }
-
- private:
-  void compare() {
-    const Vthresh_lut& d = sim_.dut();
-    const stream::LutBeat& o = model_.m_lut();
-    sim_.check("m_lut_valid_o", d.m_lut_valid_o, o.pix.valid);
-    sim_.check("m_lut_grey_o", d.m_lut_grey_o, o.pix.grey);
-    sim_.check("m_lut_x_o", d.m_lut_x_o, o.pix.x);
-    sim_.check("m_lut_y_o", d.m_lut_y_o, o.pix.y);
-    sim_.check("m_lut_sof_o", d.m_lut_sof_o, o.pix.sof);
-    sim_.check("m_lut_eol_o", d.m_lut_eol_o, o.pix.eol);
-    sim_.check("m_lut_eof_o", d.m_lut_eof_o, o.pix.eof);
-    sim_.check("m_lut_abort_o", d.m_lut_abort_o, o.pix.abort);
-    sim_.check("m_lut_remap_o", d.m_lut_remap_o, o.remap);
-    sim_.check("m_lut_mask_o", d.m_lut_mask_o, o.mask);
-    sim_.check("m_lut_class_o", d.m_lut_class_o, o.cls);
-  }
-
-  Cosim<Vthresh_lut> sim_;
-  ThreshLut model_;
 };
+
+using ThreshLutBench = BlockBench<Vthresh_lut, ThreshLut, ThreshLutPorts>;
 
 Table random_table(Rng& rng) {
   Table t{};
@@ -209,17 +186,7 @@ void add_writes(std::vector<LutCycle>& cycles, size_t from, Rng& rng) {
 }
 
 void random_size(Rng& rng, int& width, int& height) {
-  const int64_t pick = rng.uniform(0, 9);
-  if (pick < 5) {
-    width = static_cast<int>(rng.uniform(1, 8));
-    height = static_cast<int>(rng.uniform(1, 8));
-  } else if (pick < 9) {
-    width = static_cast<int>(rng.uniform(1, 80));
-    height = static_cast<int>(rng.uniform(1, 60));
-  } else {
-    width = static_cast<int>(rng.uniform(1, 640));
-    height = static_cast<int>(rng.uniform(1, std::min<int64_t>(480, 40000 / width)));
-  }
+  pixel_frame_size(rng, rng.uniform(0, 9), 5, 9, width, height);
 }
 
 TEST(CosimThreshLut, RandomStreamsWritesAndCommits) {
@@ -241,7 +208,7 @@ TEST(CosimThreshLut, RandomStreamsWritesAndCommits) {
     }
     add_writes(cycles, 1, rng);
     if (cycles.size() > 1 && rng.chance(0.02)) {
-      cycles[1 + rng.index(cycles.size() - 1)].reset = true;
+      cycles[1 + rng.index(cycles.size() - 1)].reset_before = true;
     }
     // The last cycle is kept: the next frame's frame_start may land on it
     // (zero blanking).

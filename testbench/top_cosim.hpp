@@ -20,19 +20,16 @@
 #include "stream/ceilnav_top.hpp"
 #include "stream/run_scanner.hpp"
 #include "testbench/cosim_common.hpp"
+#include "testbench/ports.hpp"
+#include "testbench/video_stream.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
+CEILNAV_VERILATOR_HEADERS_BEGIN
 #if CEILNAV_TOP_CONFIG_TAPE
 #include "Vceilnav_top_tape.h"
 #else
 #include "Vceilnav_top.h"
 #endif
-#pragma GCC diagnostic pop
+CEILNAV_VERILATOR_HEADERS_END
 
 namespace ceilnav::testbench {
 
@@ -84,19 +81,8 @@ class TopCosim {
   bool step(const stream::VideoBeat& video, bool runs_tready) {
     const stream::AxiLiteIn& in = master_.drive();
     auto& d = sim_.dut();
-    d.s_axis_video_tdata_i = video.tdata;
-    d.s_axis_video_tvalid_i = video.tvalid;
-    d.s_axis_video_tuser_i = video.tuser;
-    d.s_axis_video_tlast_i = video.tlast;
-    d.s_axil_awaddr_i = in.awaddr;
-    d.s_axil_awvalid_i = in.awvalid;
-    d.s_axil_wdata_i = in.wdata;
-    d.s_axil_wstrb_i = in.wstrb;
-    d.s_axil_wvalid_i = in.wvalid;
-    d.s_axil_bready_i = in.bready;
-    d.s_axil_araddr_i = in.araddr;
-    d.s_axil_arvalid_i = in.arvalid;
-    d.s_axil_rready_i = in.rready;
+    drive_s_axis_video(d, video);
+    drive_s_axil(d, in);
     d.m_axis_runs_tready_i = runs_tready;
     master_.edge(model_.s_axil_out());  // handshakes with the pre-edge outputs
     model_.clock(video, in, runs_tready);
@@ -118,25 +104,8 @@ class TopCosim {
  private:
   bool compare() {
     auto& d = sim_.dut();
-    const stream::AxiLiteOut& a = model_.s_axil_out();
-    bool ok = sim_.check("s_axil_awready_o", d.s_axil_awready_o, a.awready);
-    ok = sim_.check("s_axil_wready_o", d.s_axil_wready_o, a.wready) && ok;
-    ok = sim_.check("s_axil_bvalid_o", d.s_axil_bvalid_o, a.bvalid) && ok;
-    ok = sim_.check("s_axil_bresp_o", d.s_axil_bresp_o, a.bresp) && ok;
-    ok = sim_.check("s_axil_arready_o", d.s_axil_arready_o, a.arready) && ok;
-    ok = sim_.check("s_axil_rvalid_o", d.s_axil_rvalid_o, a.rvalid) && ok;
-    ok = sim_.check("s_axil_rdata_o", d.s_axil_rdata_o, a.rdata) && ok;
-    ok = sim_.check("s_axil_rresp_o", d.s_axil_rresp_o, a.rresp) && ok;
-    const stream::RunBeat runs = model_.m_axis_runs();
-    const stream::RunBeatWords words = stream::pack_run_beat(runs.tdata);
-    ok = sim_.check("m_axis_runs_tvalid_o", d.m_axis_runs_tvalid_o, runs.tvalid) && ok;
-    ok = sim_.check("m_axis_runs_tlast_o", d.m_axis_runs_tlast_o, runs.tlast) && ok;
-    static const char* const kWordNames[4] = {
-        "m_axis_runs_tdata_o[31:0]", "m_axis_runs_tdata_o[63:32]", "m_axis_runs_tdata_o[95:64]",
-        "m_axis_runs_tdata_o[111:96]"};
-    for (size_t i = 0; i < 4; ++i) {
-      ok = sim_.check(kWordNames[i], d.m_axis_runs_tdata_o[i], words[i]) && ok;
-    }
+    bool ok = check_s_axil(sim_, d, model_.s_axil_out());
+    ok = check_m_axis_runs(sim_, d, model_.m_axis_runs()) && ok;
     ok = sim_.check("irq_o", d.irq_o, model_.irq()) && ok;
     ok = sim_.check("s_axis_video_tready_o", d.s_axis_video_tready_o, 1) && ok;
     return ok;
@@ -148,8 +117,9 @@ class TopCosim {
 };
 
 // A scripted device bench on TopCosim: a video queue (one beat per edge), a
-// blocking register bus, random m_axis_runs back-pressure and a log of the
-// run stream. Used by the malformed-stream and register-fault tests.
+// blocking register bus, random m_axis_runs back-pressure (tready low) and a
+// log of the run stream. Used by the malformed-stream and register-fault
+// tests and the scripted tests of the top co-simulation.
 class DeviceBench {
  public:
   static constexpr uint64_t kLoopLimitCycles = 200'000;
@@ -162,6 +132,12 @@ class DeviceBench {
   const stream::CeilnavTop& model() const { return top_.model(); }
   void hard_reset() { top_.hard_reset(); }
   std::deque<stream::VideoBeat>& video() { return video_; }
+  // Queues a frame's beats (video_beats) behind blanking and tvalid gaps
+  // (queue_video), drawn from `rng`.
+  void queue(const std::vector<stream::VideoBeat>& beats, double gap_p, int64_t max_blanking,
+             Rng& rng) {
+    queue_video(video_, rng, beats, gap_p, max_blanking);
+  }
   std::vector<stream::RunBeat>& runs_log() { return runs_log_; }
   void set_tready_p(double p) { tready_p_ = p; }
 
@@ -184,6 +160,18 @@ class DeviceBench {
     wait_bus();
     EXPECT_EQ(top_.master().resp(), want_resp) << "read of 0x" << std::hex << addr;
     return top_.master().rdata();
+  }
+  // The response of a read or a write, whatever it is.
+  uint8_t read_resp(uint32_t addr, uint32_t& data) {
+    top_.master().start_read(addr);
+    wait_bus();
+    data = top_.master().rdata();
+    return top_.master().resp();
+  }
+  uint8_t write_resp(uint32_t addr, uint32_t data) {
+    top_.master().start_write(addr, data, 0xF);
+    wait_bus();
+    return top_.master().resp();
   }
   void write(uint32_t addr, uint32_t data, uint8_t strb = 0xF,
              uint8_t want_resp = regs::kRespOkay) {

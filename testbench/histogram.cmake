@@ -1,8 +1,0 @@
-# histogram: RTL (rtl_model/histogram.sv) == C++ (stream/histogram.cpp).
-ceilnav_add_cosim(cosim_histogram_test TOP histogram SV histogram.sv
-                  SOURCES ${CMAKE_CURRENT_LIST_DIR}/cosim_histogram_test.cpp
-                  LIBS ceilnav_golden)
-# Our own test code is held to the project's warnings (the Verilated code is not).
-get_target_property(ceilnav_cosim_warnings ceilnav_warnings INTERFACE_COMPILE_OPTIONS)
-set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/cosim_histogram_test.cpp
-                            PROPERTIES COMPILE_OPTIONS "${ceilnav_cosim_warnings}")
