@@ -21,6 +21,9 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/pipeline_config.hpp"
+#include "common/run_record.hpp"
+#include "drivers/sim_bus.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "golden/pipeline_ref.hpp"
@@ -29,19 +32,17 @@
 #include "host/camera_model.hpp"
 #include "host/driver.hpp"
 #include "host/pattern/pattern_frame.hpp"
-#include "drivers/sim_bus.hpp"
 #include "host/tape_pose.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
 #include "stream/ceilnav_top.hpp"
-#include "common/pipeline_config.hpp"
 #include "stream/pipeline.hpp"
-#include "common/run_record.hpp"
 #include "stream/run_scanner.hpp"
 
 #if CEILNAV_BENCH_RTL
-#include "testbench/ports.hpp"
-#include "testbench/verilated_top.hpp"
+#include "drivers/verilated_device.hpp"
+#include "drivers/verilated_ports.hpp"
+#include "drivers/verilated_top.hpp"
 
 CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "Vceilnav_top_fast.h"
@@ -234,45 +235,24 @@ BENCHMARK(BM_CycleModelPipeline)->Unit(benchmark::kMillisecond);
 #if CEILNAV_BENCH_RTL
 // The Verilated top as testbench/CMakeLists.txt builds it for speed
 // (ceilnav_rtl_top_fast: no assertions, no trace support), in the harness of
-// the co-simulations (testbench/verilated_top.hpp), reset once.
+// the co-simulations (drivers/verilated_top.hpp), reset once.
 using Vtop = Vceilnav_top_fast;
-class Rtl : public testbench::VerilatedTop<Vtop> {
+class Rtl : public drivers::VerilatedTop<Vtop> {
  public:
   Rtl() : VerilatedTop(1, "ceilnav_top") { reset_cycle(); }
 
   // One edge with the video beat; the AXI-Lite and run-stream inputs as set
   // (idle, tready).
   void clock(const stream::VideoBeat& b) {
-    testbench::drive_s_axis_video(dut(), b);
+    drivers::drive_s_axis_video(dut(), b);
     edge();
   }
 };
 
-// A non-owning SimDevice on the Rtl, so the host Driver can configure it and
-// read a frame back through AXI-Lite before the timed loop.
-class RtlDeviceRef : public drivers::SimDevice {
- public:
-  explicit RtlDeviceRef(Rtl& rtl) : rtl_(rtl) {}
-  void reset() override { rtl_.reset_cycle(); }
-  drivers::SimOutputs outputs() const override {
-    const Vtop& t = rtl_.dut();
-    drivers::SimOutputs o;
-    o.s_axil = testbench::read_s_axil(t);
-    o.m_axis_runs = testbench::read_m_axis_runs(t);
-    o.irq = t.irq_o;
-    o.s_axis_video_tready = t.s_axis_video_tready_o;
-    return o;
-  }
-  void clock(const drivers::SimInputs& in) override {
-    Vtop& t = rtl_.dut();
-    testbench::drive_s_axil(t, in.s_axil);
-    t.m_axis_runs_tready_i = in.m_axis_runs_tready;
-    rtl_.clock(in.s_axis_video);
-  }
-
- private:
-  Rtl& rtl_;
-};
+// A non-owning SimDevice on the Rtl (drivers/verilated_device.hpp), so the
+// host Driver can configure it and read a frame back through AXI-Lite before
+// the timed loop.
+using RtlDeviceRef = drivers::VerilatedDevice<Vtop>;
 
 // Leaves every AXI-Lite input idle and m_axis_runs_tready = 1.
 void idle_axi(Vtop& t) {

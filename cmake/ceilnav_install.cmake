@@ -18,7 +18,7 @@ install(TARGETS ceilnav RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 foreach(dir IN ITEMS common fixedpoint stream host drivers golden)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/ DESTINATION ${CEILNAV_INSTALL_INCLUDEDIR}/${dir}
           FILES_MATCHING PATTERN "*.hpp" PATTERN "tests" EXCLUDE
-          PATTERN "rtl_backend.hpp" EXCLUDE)  # ceilnav_drivers_rtl is not installed
+          PATTERN "rtl_backend.hpp" EXCLUDE PATTERN "verilated_*.hpp" EXCLUDE)  # need Verilator
 endforeach()
 install(FILES ${CEILNAV_GENERATED_DIR}/ceilnav/regs.hpp ${CEILNAV_GENERATED_DIR}/ceilnav/regblock.hpp
               ${CEILNAV_GENERATED_DIR}/ceilnav/ceilnav_regs.h

@@ -1,6 +1,6 @@
 // Shared co-simulation harness: one Verilated top against a C++ cycle model.
 // Cosim<Top> = VerilatedTop<Top, FstTrace> (clock and reset protocol,
-// testbench/verilated_top.hpp) + Scoreboard (testbench/scoreboard.hpp); the
+// drivers/verilated_top.hpp) + Scoreboard (testbench/scoreboard.hpp); the
 // test sets the inputs of both the RTL and the C++ model before each edge();
 // the model's reset() stands for reset_cycle()'s edge. See docs/cosim.md
 // "The scaffolding".
@@ -29,9 +29,9 @@
 
 #include <gtest/gtest.h>
 
+#include "drivers/verilated_top.hpp"
 #include "testbench/fst_trace.hpp"
 #include "testbench/scoreboard.hpp"
-#include "testbench/verilated_top.hpp"
 
 #if defined(CEILNAV_RTL_COVERAGE) && CEILNAV_RTL_COVERAGE
 CEILNAV_VERILATOR_HEADERS_BEGIN
@@ -40,6 +40,8 @@ CEILNAV_VERILATOR_HEADERS_END
 #endif
 
 namespace ceilnav::testbench {
+
+using drivers::VerilatedTop;
 
 // Unsigned integer from the environment, or fallback if unset or unparsable.
 inline uint64_t env_u64(const char* name, uint64_t fallback) {

@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "testbench/verilated_top.hpp"
+#include "drivers/verilated_top.hpp"
 
 CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "verilated_fst_c.h"

@@ -10,7 +10,7 @@
 // rising edge: an asynchronous reset sees the falling rst_ni, a synchronous
 // one the edge, so the same harness serves both.
 //
-// Trace is a policy: NoTrace here, FstTrace (testbench/fst_trace.hpp) for the
+// Trace is a policy: NoTrace here, testbench::FstTrace (testbench/fst_trace.hpp) for the
 // co-simulation builds. It sees the context before the model exists (trace
 // switched on), the model after, and every time step.
 #pragma once
@@ -33,7 +33,7 @@ CEILNAV_VERILATOR_HEADERS_BEGIN
 #include "verilated.h"
 CEILNAV_VERILATOR_HEADERS_END
 
-namespace ceilnav::testbench {
+namespace ceilnav::drivers {
 
 // The trace policy of a build without trace support.
 struct NoTrace {
@@ -114,4 +114,4 @@ class VerilatedTop {
   uint64_t cycle_ = 0;
 };
 
-}  // namespace ceilnav::testbench
+}  // namespace ceilnav::drivers
