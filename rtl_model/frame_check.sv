@@ -47,7 +47,9 @@ module frame_check #(
 
   localparam int unsigned GeomBits = CoordBits + 1;  // cfg ports: 0 .. 2^GeomBits - 1
   localparam logic [GeomBits-1:0] MaxGeom = GeomBits'(1) << CoordBits;
-  localparam logic [CoordBits-1:0] MaxCoord = '1;
+  // Not '1: Yosys 0.23 synthesises a '1 fill in a localparam as 1 (x_max_q of
+  // a geometry above 2^CoordBits was 1 in the netlist, 2^CoordBits - 1 in Verilator).
+  localparam logic [CoordBits-1:0] MaxCoord = CoordBits'(MaxGeom - GeomBits'(1));
 
   localparam logic [1:0] StIdle    = 2'd0;  // expecting an SOF
   localparam logic [1:0] StInFrame = 2'd1;  // x_q/y_q: position of the next pixel
