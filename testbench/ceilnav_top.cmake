@@ -6,7 +6,7 @@
 # the generated register block.
 set(ceilnav_top_sv
     ${CEILNAV_GENERATED_DIR}/ceilnav_widths_pkg.sv
-    ${CEILNAV_GENERATED_DIR}/ceilnav_reg_pkg.sv ${CEILNAV_GENERATED_DIR}/ceilnav_regblock.sv
+    ${CEILNAV_GENERATED_DIR}/ceilnav_reg_pkg.sv ${CEILNAV_RTL_DIR}/ceilnav_pkg.sv ${CEILNAV_GENERATED_DIR}/ceilnav_regblock.sv
     ${CEILNAV_RTL_DIR}/ceilnav_top.sv ${CEILNAV_RTL_DIR}/pipeline.sv
     ${CEILNAV_RTL_DIR}/frame_check.sv ${CEILNAV_RTL_DIR}/thresh_lut.sv
     ${CEILNAV_RTL_DIR}/histogram.sv ${CEILNAV_RTL_DIR}/moment_gen.sv
