@@ -230,8 +230,13 @@ module ceilnav_top #(
                                                                           reg2hw.meta.index})
                                         : StoreAddrBits'(reg2hw.moments.index);
 
+  // No write on an edge in which the pipeline, which drives the write port, is
+  // in reset (rst_ni or a soft reset; docs/rtl_style.md, "Reset").
+  logic store_we;
+  assign store_we = dp_rst_n & res_wr_valid;
+
   always_ff @(posedge clk_i) begin
-    if (res_wr_valid) begin
+    if (store_we) begin
       res_store[res_wr_addr] <= res_wr_data;
     end
     if (store_re) begin

@@ -65,7 +65,9 @@ module run_fifo #(
     logic [Width-1:0]        rdata_q;
 
     assign slot    = wp_q[0] != 1'(b);
-    assign wr_en   = ceilnav_pkg::FifoWrBits'(slot) < wr_count_i;
+    // No write on an edge in reset (docs/rtl_style.md, "Reset"): wr_count_i
+    // and the pointers may hold anything there.
+    assign wr_en   = rst_ni && ceilnav_pkg::FifoWrBits'(slot) < wr_count_i;
     // Bank 1 row wp/2 (wp or wp+1 odd); bank 0 row (wp+1)/2.
     assign wr_row  = wp_q[AddrBits-1:1] + BankAddrBits'(b == 0 && wp_q[0]);
     assign wr_data = slot ? wr_data_i[Width +: Width] : wr_data_i[0 +: Width];
@@ -82,7 +84,7 @@ module run_fifo #(
     logic [LateWidth-1:0] late_mem_q[2**BankAddrBits];
     logic [LateWidth-1:0] late_rdata_q;
     always_ff @(posedge clk_i) begin
-      if (late_en_q && late_addr_q[0] == 1'(b)) begin
+      if (rst_ni && late_en_q && late_addr_q[0] == 1'(b)) begin
         late_mem_q[late_addr_q[AddrBits-1:1]] <= late_data_i;
       end
     end

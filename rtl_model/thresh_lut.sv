@@ -61,8 +61,13 @@ module thresh_lut (
   assign active_d  = active_q ^ swap;
   assign pending_d = swap ? 1'b0 : (pending_q | lut_wr_en_i);
 
+  // No write on an edge in reset: the write port's drivers may hold anything
+  // there (power-up), and a reset changes no bank contents (docs/rtl_style.md).
+  logic wr_en;
+  assign wr_en = rst_ni & lut_wr_en_i;
+
   always_ff @(posedge clk_i) begin
-    if (lut_wr_en_i && active_q) begin
+    if (wr_en && active_q) begin
       bank0_mem[lut_wr_index_i] <= lut_wr_data_i;
     end
     if (!active_q) begin
@@ -71,7 +76,7 @@ module thresh_lut (
   end
 
   always_ff @(posedge clk_i) begin
-    if (lut_wr_en_i && !active_q) begin
+    if (wr_en && !active_q) begin
       bank1_mem[lut_wr_index_i] <= lut_wr_data_i;
     end
     if (active_q) begin
