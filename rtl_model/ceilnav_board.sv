@@ -18,7 +18,7 @@ module ceilnav_board #(
   input  logic                rst_ni,
 
   // Camera: AXI4-Stream video (tuser = SOF, tlast = EOL)
-  input  logic [7:0]          s_axis_video_tdata_i,
+  input  ceilnav_pkg::pixel_t s_axis_video_tdata_i,
   input  logic                s_axis_video_tvalid_i,
   output logic                s_axis_video_tready_o,
   input  logic                s_axis_video_tuser_i,
@@ -28,26 +28,26 @@ module ceilnav_board #(
   input  logic [AddrBits-1:0] s_axil_awaddr_i,
   input  logic                s_axil_awvalid_i,
   output logic                s_axil_awready_o,
-  input  logic [31:0]         s_axil_wdata_i,
-  input  logic [3:0]          s_axil_wstrb_i,
+  input  ceilnav_pkg::word_t  s_axil_wdata_i,
+  input  logic [ceilnav_pkg::AxilStrbBits-1:0] s_axil_wstrb_i,
   input  logic                s_axil_wvalid_i,
   output logic                s_axil_wready_o,
-  output logic [1:0]          s_axil_bresp_o,
+  output logic [ceilnav_pkg::AxiRespBits-1:0] s_axil_bresp_o,
   output logic                s_axil_bvalid_o,
   input  logic                s_axil_bready_i,
   input  logic [AddrBits-1:0] s_axil_araddr_i,
   input  logic                s_axil_arvalid_i,
   output logic                s_axil_arready_o,
-  output logic [31:0]         s_axil_rdata_o,
-  output logic [1:0]          s_axil_rresp_o,
+  output ceilnav_pkg::word_t  s_axil_rdata_o,
+  output logic [ceilnav_pkg::AxiRespBits-1:0] s_axil_rresp_o,
   output logic                s_axil_rvalid_o,
   input  logic                s_axil_rready_i,
 
   output logic                irq_o
 );
 
-  logic         unused_runs_tvalid, unused_runs_tlast;
-  logic [111:0] unused_runs_tdata;
+  logic                                unused_runs_tvalid, unused_runs_tlast;
+  logic [ceilnav_pkg::RunBeatBits-1:0] unused_runs_tdata;
   logic         unused_runs;
   assign unused_runs = ^{unused_runs_tvalid, unused_runs_tlast, unused_runs_tdata};
 
@@ -61,7 +61,7 @@ module ceilnav_board #(
     .s_axis_video_tready_o,
     .s_axis_video_tuser_i,
     .s_axis_video_tlast_i,
-    .s_axil_awaddr_i     (32'(s_axil_awaddr_i)),
+    .s_axil_awaddr_i     (ceilnav_pkg::AxilAddrBits'(s_axil_awaddr_i)),
     .s_axil_awvalid_i,
     .s_axil_awready_o,
     .s_axil_wdata_i,
@@ -71,7 +71,7 @@ module ceilnav_board #(
     .s_axil_bresp_o,
     .s_axil_bvalid_o,
     .s_axil_bready_i,
-    .s_axil_araddr_i     (32'(s_axil_araddr_i)),
+    .s_axil_araddr_i     (ceilnav_pkg::AxilAddrBits'(s_axil_araddr_i)),
     .s_axil_arvalid_i,
     .s_axil_arready_o,
     .s_axil_rdata_o,

@@ -12,43 +12,48 @@
 module ceilnav_top #(
   parameter bit HasClassMoments = 1'b1
 ) (
-  input  logic         clk_i,
-  input  logic         rst_ni,
+  input  logic                                 clk_i,
+  input  logic                                 rst_ni,
 
   // AXI4-Stream video (tuser = SOF, tlast = EOL); never back-pressured
-  input  logic [7:0]   s_axis_video_tdata_i,
-  input  logic         s_axis_video_tvalid_i,
-  output logic         s_axis_video_tready_o,
-  input  logic         s_axis_video_tuser_i,
-  input  logic         s_axis_video_tlast_i,
+  input  ceilnav_pkg::pixel_t                  s_axis_video_tdata_i,
+  input  logic                                 s_axis_video_tvalid_i,
+  output logic                                 s_axis_video_tready_o,
+  input  logic                                 s_axis_video_tuser_i,
+  input  logic                                 s_axis_video_tlast_i,
 
   // AXI4-Lite slave
-  input  logic [31:0]  s_axil_awaddr_i,
-  input  logic         s_axil_awvalid_i,
-  output logic         s_axil_awready_o,
-  input  logic [31:0]  s_axil_wdata_i,
-  input  logic [3:0]   s_axil_wstrb_i,
-  input  logic         s_axil_wvalid_i,
-  output logic         s_axil_wready_o,
-  output logic [1:0]   s_axil_bresp_o,
-  output logic         s_axil_bvalid_o,
-  input  logic         s_axil_bready_i,
-  input  logic [31:0]  s_axil_araddr_i,
-  input  logic         s_axil_arvalid_i,
-  output logic         s_axil_arready_o,
-  output logic [31:0]  s_axil_rdata_o,
-  output logic [1:0]   s_axil_rresp_o,
-  output logic         s_axil_rvalid_o,
-  input  logic         s_axil_rready_i,
+  input  logic [ceilnav_pkg::AxilAddrBits-1:0] s_axil_awaddr_i,
+  input  logic                                 s_axil_awvalid_i,
+  output logic                                 s_axil_awready_o,
+  input  logic [ceilnav_pkg::AxilDataBits-1:0] s_axil_wdata_i,
+  input  logic [ceilnav_pkg::AxilStrbBits-1:0] s_axil_wstrb_i,
+  input  logic                                 s_axil_wvalid_i,
+  output logic                                 s_axil_wready_o,
+  output logic [ceilnav_pkg::AxiRespBits-1:0]  s_axil_bresp_o,
+  output logic                                 s_axil_bvalid_o,
+  input  logic                                 s_axil_bready_i,
+  input  logic [ceilnav_pkg::AxilAddrBits-1:0] s_axil_araddr_i,
+  input  logic                                 s_axil_arvalid_i,
+  output logic                                 s_axil_arready_o,
+  output logic [ceilnav_pkg::AxilDataBits-1:0] s_axil_rdata_o,
+  output logic [ceilnav_pkg::AxiRespBits-1:0]  s_axil_rresp_o,
+  output logic                                 s_axil_rvalid_o,
+  input  logic                                 s_axil_rready_i,
 
-  // AXI4-Stream runs (pack_run_beat layout, see run_scanner.sv)
-  output logic         m_axis_runs_tvalid_o,
-  input  logic         m_axis_runs_tready_i,
-  output logic         m_axis_runs_tlast_o,
-  output logic [111:0] m_axis_runs_tdata_o,
+  // AXI4-Stream runs (ceilnav_pkg::run_beat_t, pack_run_beat layout)
+  output logic                                 m_axis_runs_tvalid_o,
+  input  logic                                 m_axis_runs_tready_i,
+  output logic                                 m_axis_runs_tlast_o,
+  output logic [ceilnav_pkg::RunBeatBits-1:0]  m_axis_runs_tdata_o,
 
-  output logic         irq_o
+  output logic                                 irq_o
 );
+
+  localparam int unsigned WordBits = ceilnav_pkg::WordBits;
+  localparam int unsigned ErrCount = ceilnav_pkg::ErrCount;
+  localparam int unsigned ClassWords = ceilnav_pkg::MaxClasses * ceilnav_pkg::MomentCount;
+  localparam int unsigned MomBits = ceilnav_pkg::MomentBits;
 
   localparam int unsigned RunFifoDepth = ceilnav_reg_pkg::RunFifoDepth;
   localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1;
@@ -90,31 +95,31 @@ module ceilnav_top #(
   // ---------------------------------------------------------------------------
   // Hardware side of the registers
   logic                 lut_wr_en_q;  // LUT write port, one edge after the bus write
-  logic [7:0]           lut_wr_index_q;
-  logic [10:0]          lut_wr_data_q;
+  ceilnav_pkg::pixel_t  lut_wr_index_q;
+  ceilnav_pkg::lut_entry_t lut_wr_data_q;
   logic                 lut_pending_q;  // copy of thresh_lut's pending flag (STATUS)
   logic                 gate_open_q, in_frame_q;
   logic                 soft_rst_q;     // datapath held in reset
-  logic [5:0]           err_lsb_prev_q;  // bit 0 of each frame_check counter, one edge old
-  logic [31:0]          trailers_lost_prev_q;
-  logic [31:0]          frame_count_q, eof_to_irq_q;
-  logic [31:0]          eof_age_q;  // EOF_TO_IRQ_CYCLES if irq rose on the next edge
+  logic [ErrCount-1:0]  err_lsb_prev_q;  // bit 0 of each frame_check counter, one edge old
+  ceilnav_pkg::word_t   trailers_lost_prev_q;
+  ceilnav_pkg::word_t   frame_count_q, eof_to_irq_q;
+  ceilnav_pkg::word_t   eof_age_q;  // EOF_TO_IRQ_CYCLES if irq rose on the next edge
 
   // ---------------------------------------------------------------------------
   // Datapath
   logic                     dp_rst_n;
   logic                     pass, video_sof;
   logic                     pipe_tvalid, pipe_tlast, runs_tready;
-  logic [111:0]             pipe_tdata;
-  logic [22:0]              hist_rd_data;
+  ceilnav_pkg::run_beat_t   pipe_tdata;
+  logic [ceilnav_pkg::BinBits-1:0] hist_rd_data;
   logic                     frame_done, res_valid;
-  logic [6*32-1:0]          errors;
+  ceilnav_pkg::frame_errors_t errors;
   logic                     res_wr_valid, res_bank, res_overflow_nonzero;
-  logic [7:0]               res_wr_addr;
-  logic [31:0]              res_wr_data;
+  logic [ceilnav_pkg::StoreAddrBits-1:0] res_wr_addr;
+  ceilnav_pkg::word_t       res_wr_data;
   logic                     mom_wr_valid;
-  logic [18*64-1:0]         res_class;
-  logic [31:0]              frames_overrun, trailers_lost;
+  logic [ClassWords*MomBits-1:0] res_class;
+  ceilnav_pkg::word_t       frames_overrun, trailers_lost;
   logic [FifoCountBits-1:0] fifo_occupancy;
   logic                     soft_reset, wr_lut_data, hist_rd_en, run_pop;
 
@@ -133,15 +138,15 @@ module ceilnav_top #(
   ) u_pipeline (
     .clk_i,
     .rst_ni                      (dp_rst_n),
-    .s_axis_video_tdata_i        (pass ? s_axis_video_tdata_i : 8'd0),
+    .s_axis_video_tdata_i        (pass ? s_axis_video_tdata_i : '0),
     .s_axis_video_tvalid_i       (pass),
     .s_axis_video_tuser_i        (pass & s_axis_video_tuser_i),
     .s_axis_video_tlast_i        (pass & s_axis_video_tlast_i),
     .cfg_width_i                 (reg2hw.width.value),
     .cfg_height_i                (reg2hw.height.value),
     .cfg_background_level_i      (reg2hw.background_level.value),
-    .cfg_min_run_length_i        (16'(reg2hw.min_run_length.value)),
-    .cfg_max_runs_per_row_i      (16'(reg2hw.max_runs_per_row.value)),
+    .cfg_min_run_length_i        (ceilnav_pkg::RunFieldBits'(reg2hw.min_run_length.value)),
+    .cfg_max_runs_per_row_i      (ceilnav_pkg::RunFieldBits'(reg2hw.max_runs_per_row.value)),
     .cfg_hist_source_remap_i     (reg2hw.hist_source.remap),
     .cfg_class_win_x0_i          (reg2hw.class_win_x.x0),
     .cfg_class_win_x1_i          (reg2hw.class_win_x.x1),
@@ -187,10 +192,11 @@ module ceilnav_top #(
   // The frame_check counters move by +1 or not at all (saturating) on an edge,
   // or go to 0 with the datapath reset, which also clears err_lsb_prev_q:
   // a counter changed on the last edge iff its bit 0 did.
-  logic [5:0] err_lsb, err_changed;
-  for (genvar i = 0; i < 6; i++) begin : g_err_lsb
-    assign err_lsb[i] = errors[i*32];
-  end
+  // err_lsb, err_changed: {frames_aborted, frames_ok, missing_sof, early_sof, late_eol,
+  // early_eol}, the order of ceilnav_pkg::frame_errors_t.
+  logic [ErrCount-1:0] err_lsb, err_changed;
+  assign err_lsb = {errors.frames_aborted[0], errors.frames_ok[0], errors.missing_sof[0],
+                    errors.early_sof[0], errors.late_eol[0], errors.early_eol[0]};
   assign err_changed = err_lsb ^ err_lsb_prev_q;
 
   assign events_frame_error = (|err_changed[3:0]) | err_changed[5];
@@ -210,19 +216,27 @@ module ceilnav_top #(
   // the unpublished bank before the publication flips it. Before the first
   // publication (and after a soft reset) the set reads 0: the word read is
   // masked with RESULTS_VALID as it was on the read edge.
-  localparam int unsigned StoreWords = 256;  // one iCE40 BRAM pair (256 x 32)
-  localparam logic [7:0] StoreMetaBase = 8'd32;
-  logic [31:0] res_store [StoreWords];
-  logic [31:0] store_rd_q;
-  logic        store_rd_valid_q, store_re;
-  logic [7:0]  store_rd_addr;
+  localparam int unsigned StoreAddrBits = ceilnav_pkg::StoreAddrBits;
+  localparam int unsigned StoreWords = 1 << StoreAddrBits;  // one iCE40 BRAM pair (256 x 32)
+  localparam logic [StoreAddrBits-1:0] StoreMetaBase = StoreAddrBits'(32);
+  logic [WordBits-1:0] res_store [StoreWords];
+  ceilnav_pkg::word_t  store_rd_q;
+  logic                store_rd_valid_q, store_re;
+  logic [StoreAddrBits-1:0] store_rd_addr;
 
   assign store_re      = reg2hw.moments.re | reg2hw.meta.re;
-  assign store_rd_addr = reg2hw.meta.re ? StoreMetaBase + {3'd0, res_bank, reg2hw.meta.index}
-                                        : 8'(reg2hw.moments.index);
+  // Meta bank b at StoreMetaBase + 16 b.
+  assign store_rd_addr = reg2hw.meta.re ? StoreMetaBase + StoreAddrBits'({res_bank,
+                                                                          reg2hw.meta.index})
+                                        : StoreAddrBits'(reg2hw.moments.index);
+
+  // No write on an edge in which the pipeline, which drives the write port, is
+  // in reset (rst_ni or a soft reset; docs/rtl_style.md, "Reset").
+  logic store_we;
+  assign store_we = dp_rst_n & res_wr_valid;
 
   always_ff @(posedge clk_i) begin
-    if (res_wr_valid) begin
+    if (store_we) begin
       res_store[res_wr_addr] <= res_wr_data;
     end
     if (store_re) begin
@@ -255,36 +269,37 @@ module ceilnav_top #(
     hw2reg.error_cause.early_sof   = err_changed[2];
     hw2reg.error_cause.missing_sof = err_changed[3];
     hw2reg.hist_data.count        = hist_rd_data;
-    hw2reg.run_fifo_level.value   = 16'(fifo_occupancy) + 16'(pipe_tvalid);
-    hw2reg.run_fifo_depth.value   = 16'(RunFifoDepth);
+    hw2reg.run_fifo_level.value   = ceilnav_pkg::RunFieldBits'(fifo_occupancy) +
+                                    ceilnav_pkg::RunFieldBits'(pipe_tvalid);
+    hw2reg.run_fifo_depth.value   = ceilnav_pkg::RunFieldBits'(RunFifoDepth);
     hw2reg.features.class_moments = HasClassMoments;
     // The run window: the head entry of the run FIFO (pack_run_beat layout; the
     // run scanner drives tdata and tlast to 0 without tvalid).
     hw2reg.run_word0.valid        = pipe_tvalid;
     hw2reg.run_word0.last         = pipe_tlast;
-    hw2reg.run_word0.row          = pipe_tdata[15:0];
-    hw2reg.run_word1.x_start      = pipe_tdata[31:16];
-    hw2reg.run_word1.x_end        = pipe_tdata[111:96];
-    hw2reg.run_word2.sum_w        = pipe_tdata[50:32];
-    hw2reg.run_word3.sum_xw       = pipe_tdata[92:64];
+    hw2reg.run_word0.row          = pipe_tdata.row;
+    hw2reg.run_word1.x_start      = pipe_tdata.x_start;
+    hw2reg.run_word1.x_end        = pipe_tdata.x_end;
+    hw2reg.run_word2.sum_w        = pipe_tdata.sum_w[ceilnav_pkg::SumWBits-1:0];
+    hw2reg.run_word3.sum_xw       = pipe_tdata.sum_xw[ceilnav_pkg::SumXwBits-1:0];
     hw2reg.frame_count.value      = frame_count_q;
     hw2reg.eof_to_irq_cycles.value = eof_to_irq_q;
-    hw2reg.cnt_early_eol.value      = errors[0*32 +: 32];
-    hw2reg.cnt_late_eol.value       = errors[1*32 +: 32];
-    hw2reg.cnt_early_sof.value      = errors[2*32 +: 32];
-    hw2reg.cnt_missing_sof.value    = errors[3*32 +: 32];
-    hw2reg.cnt_frames_ok.value      = errors[4*32 +: 32];
-    hw2reg.cnt_frames_aborted.value = errors[5*32 +: 32];
+    hw2reg.cnt_early_eol.value      = errors.early_eol;
+    hw2reg.cnt_late_eol.value       = errors.late_eol;
+    hw2reg.cnt_early_sof.value      = errors.early_sof;
+    hw2reg.cnt_missing_sof.value    = errors.missing_sof;
+    hw2reg.cnt_frames_ok.value      = errors.frames_ok;
+    hw2reg.cnt_frames_aborted.value = errors.frames_aborted;
     hw2reg.run_trailers_lost.value  = trailers_lost;
     hw2reg.frames_overrun.value     = frames_overrun;
     // MOM_*: the result store (below); CLASS_MOM_*[i] (i = 6 (c - 1) + k): the
     // 64-bit moments in two words.
-    hw2reg.moments.data  = store_rd_q & {32{store_rd_valid_q}};
+    hw2reg.moments.data  = store_rd_q & {WordBits{store_rd_valid_q}};
     hw2reg.moments.ready = ~mom_wr_valid;
-    hw2reg.meta.data     = store_rd_q & {32{store_rd_valid_q}};
-    for (int unsigned i = 0; i < 18; i++) begin
-      hw2reg.class_mom_lo.value[i] = res_class[64*i +: 32];
-      hw2reg.class_mom_hi.value[i] = res_class[64*i+32 +: 32];
+    hw2reg.meta.data     = store_rd_q & {WordBits{store_rd_valid_q}};
+    for (int unsigned i = 0; i < ClassWords; i++) begin
+      hw2reg.class_mom_lo.value[i] = res_class[MomBits*i +: WordBits];
+      hw2reg.class_mom_hi.value[i] = res_class[MomBits*i+WordBits +: WordBits];
     end
   end
 
@@ -317,11 +332,11 @@ module ceilnav_top #(
         eof_to_irq_q <= eof_age_q;
       end
       if (frame_done) begin
-        frame_count_q <= frame_count_q + 32'd1;
+        frame_count_q <= frame_count_q + WordBits'(1);
       end
       // Edges from the one that accepted the last good EOF pixel (eof_seen is
       // one edge later), or from the last reset.
-      eof_age_q <= eof_seen ? 32'd2 : eof_age_q + 32'd1;
+      eof_age_q <= eof_seen ? WordBits'(2) : eof_age_q + WordBits'(1);
       if (pass && s_axis_video_tuser_i && !soft_rst_q) begin
         in_frame_q <= 1'b1;
       end else if (frame_closed) begin
@@ -356,10 +371,11 @@ module ceilnav_top #(
   assign s_axis_video_tready_o = 1'b1;
   assign m_axis_runs_tvalid_o  = ~reg2hw.control.run_sink & pipe_tvalid;
   assign m_axis_runs_tlast_o   = ~reg2hw.control.run_sink & pipe_tlast;
-  assign m_axis_runs_tdata_o   = reg2hw.control.run_sink ? 112'd0 : pipe_tdata;
+  assign m_axis_runs_tdata_o   = reg2hw.control.run_sink ? '0 : pipe_tdata;
 
-  // The run words use the 19 / 29 low bits of sum_w / sum_xw (pack_run_beat).
+  // The run words use the SumWBits / SumXwBits low bits of sum_w / sum_xw (pack_run_beat).
   logic unused;
-  assign unused = ^{pipe_tdata[95:93], pipe_tdata[63:51]};
+  assign unused = ^{pipe_tdata.sum_xw[WordBits-1:ceilnav_pkg::SumXwBits],
+                    pipe_tdata.sum_w[WordBits-1:ceilnav_pkg::SumWBits]};
 
 endmodule

@@ -8,51 +8,51 @@
 // Cycle model: stream/class_moments.{hpp,cpp}; spec: docs/blocks/class_moments.md.
 // Latency: the EOF pixel taken on edge e shows on the outputs after edge e+2.
 module class_moments #(
-  parameter  int unsigned CoordBits  = ceilnav_widths_pkg::CoordBits,  // frames up to 2^CoordBits square
-  parameter  int unsigned NumClasses = 3,   // classes 1 .. NumClasses are measured (1..3)
-  // Moment widths for a full 2^k x 2^k frame of ones (k = CoordBits); the C++
-  // model pins them (fixedpoint/datapath.hpp, class_moments::moment_bits).
-  localparam int unsigned M00Bits = 2 * CoordBits + 1,
-  localparam int unsigned M10Bits = 3 * CoordBits - 1,
-  localparam int unsigned M20Bits = 4 * CoordBits - 1,
-  localparam int unsigned M11Bits = 4 * CoordBits - 2,
-  localparam int unsigned WinBits = CoordBits + 1
+  parameter  int unsigned NumClasses = ceilnav_pkg::MaxClasses  // classes 1 .. NumClasses are measured (1..3)
 ) (
   input  logic                             clk_i,
   input  logic                             rst_ni,
 
   // s_lut: pixel beat from thresh_lut (LutBeat); grey, remap and mask unused.
   input  logic                             s_lut_valid_i,
-  input  logic [7:0]                       s_lut_grey_i,
-  input  logic [CoordBits-1:0]             s_lut_x_i,
-  input  logic [CoordBits-1:0]             s_lut_y_i,
+  input  ceilnav_pkg::pixel_t              s_lut_grey_i,
+  input  ceilnav_pkg::coord_t              s_lut_x_i,
+  input  ceilnav_pkg::coord_t              s_lut_y_i,
   input  logic                             s_lut_sof_i,
   input  logic                             s_lut_eol_i,
   input  logic                             s_lut_eof_i,
   input  logic                             s_lut_abort_i,
-  input  logic [7:0]                       s_lut_remap_i,
+  input  ceilnav_pkg::pixel_t              s_lut_remap_i,
   input  logic                             s_lut_mask_i,
-  input  logic [1:0]                       s_lut_class_i,
+  input  ceilnav_pkg::class_t              s_lut_class_i,
 
   // Window, sampled with the SOF pixel.
-  input  logic [WinBits-1:0]               win_x0_i,
-  input  logic [WinBits-1:0]               win_x1_i,
-  input  logic [WinBits-1:0]               win_y0_i,
-  input  logic [WinBits-1:0]               win_y1_i,
+  input  ceilnav_pkg::win_t                win_x0_i,
+  input  ceilnav_pkg::win_t                win_x1_i,
+  input  ceilnav_pkg::win_t                win_y0_i,
+  input  ceilnav_pkg::win_t                win_y1_i,
   // Sampled with the EOF pixel: 0 discards the frame (no done, outputs kept).
   input  logic                             eof_keep_i,
 
   output logic                             done_o,  // one-cycle pulse: outputs just updated
   // Class c (1 .. NumClasses) at [(c-1)*MxxBits +: MxxBits].
-  output logic [NumClasses*M00Bits-1:0]    m00_o,
-  output logic [NumClasses*M10Bits-1:0]    m10_o,
-  output logic [NumClasses*M10Bits-1:0]    m01_o,
-  output logic [NumClasses*M20Bits-1:0]    m20_o,
-  output logic [NumClasses*M11Bits-1:0]    m11_o,
-  output logic [NumClasses*M20Bits-1:0]    m02_o
+  output logic [NumClasses*ceilnav_pkg::M00Bits-1:0] m00_o,
+  output logic [NumClasses*ceilnav_pkg::M10Bits-1:0] m10_o,
+  output logic [NumClasses*ceilnav_pkg::M10Bits-1:0] m01_o,
+  output logic [NumClasses*ceilnav_pkg::M20Bits-1:0] m20_o,
+  output logic [NumClasses*ceilnav_pkg::M11Bits-1:0] m11_o,
+  output logic [NumClasses*ceilnav_pkg::M20Bits-1:0] m02_o
 );
 
-  localparam int unsigned TermBits = 2 * CoordBits;  // x^2, x y, y^2 <= (2^k - 1)^2
+  // Frames up to 2^CoordBits square. Moment widths for a full 2^k x 2^k frame
+  // of ones (k = CoordBits), derived in fixedpoint/datapath.hpp
+  // (class_moments::moment_bits: m00 2k+1, m10 3k-1, m20 4k-1, m11 4k-2 bits).
+  localparam int unsigned CoordBits = ceilnav_pkg::CoordBits;
+  localparam int unsigned M00Bits   = ceilnav_pkg::M00Bits;
+  localparam int unsigned M10Bits   = ceilnav_pkg::M10Bits;
+  localparam int unsigned M20Bits   = ceilnav_pkg::M20Bits;
+  localparam int unsigned M11Bits   = ceilnav_pkg::M11Bits;
+  localparam int unsigned TermBits  = ceilnav_pkg::TermBits;  // x^2, x y, y^2 <= (2^k - 1)^2
 
   // ---------------------------------------------------------------------------
   // Stage 0: take the pixel; its terms are increments of the previous pixel's
@@ -64,11 +64,11 @@ module class_moments #(
   assign row_start = s_lut_sof_i | row_start_q;
 
   logic                 t_valid_q, t_start_q, t_end_q;
-  logic [1:0]           t_class_q;
-  logic [CoordBits-1:0] t_x_q, t_y_q;
+  ceilnav_pkg::class_t  t_class_q;
+  ceilnav_pkg::coord_t  t_x_q, t_y_q;
   logic [TermBits-1:0]  t_x2_q, t_xy_q, t_y2_q;
   logic [TermBits-1:0]  x2_d, xy_d, y2_d;
-  logic [WinBits-1:0]   win_x0_q, win_x1_q, win_y0_q, win_y1_q;
+  ceilnav_pkg::win_t    win_x0_q, win_x1_q, win_y0_q, win_y1_q;
 
   // x^2 + 2x + 1 = (x + 1)^2; x y + y = (x + 1) y; y^2 + 2y + 1 = (y + 1)^2.
   assign x2_d = row_start ? '0 : t_x2_q + TermBits'({t_x_q, 1'b1});
@@ -159,7 +159,7 @@ module class_moments #(
     logic [M20Bits-1:0] acc20_q, acc02_q, out20_q, out02_q;
     logic [M11Bits-1:0] acc11_q, out11_q;
 
-    assign hit = in_win && (t_class_q == 2'(c + 1));
+    assign hit = in_win && (t_class_q == ceilnav_pkg::ClassBits'(c + 1));
 
     // No reset: the frame's first pixel initialises every accumulator before
     // any of them can reach the outputs (then iCE40 maps the clear of a
@@ -217,7 +217,7 @@ module class_moments #(
 `ifndef SYNTHESIS
   // frame_check guarantees that each pixel follows the previous one; the
   // increments need it (the C++ model throws std::logic_error instead).
-  logic [CoordBits-1:0] want_x, want_y;
+  ceilnav_pkg::coord_t want_x, want_y;
   assign want_x = row_start ? '0 : t_x_q + CoordBits'(1);
   assign want_y = s_lut_sof_i ? '0 : (row_start_q ? t_y_q + CoordBits'(1) : t_y_q);
   always_ff @(posedge clk_i) begin
@@ -228,7 +228,7 @@ module class_moments #(
     end
   end
   initial begin
-    assert (NumClasses >= 1 && NumClasses <= 3) else $fatal(1, "NumClasses must be 1..3");
+    assert (NumClasses >= 1 && NumClasses <= ceilnav_pkg::MaxClasses) else $fatal(1, "NumClasses must be 1..3");
   end
 `endif
 

@@ -8,66 +8,63 @@
 // counters, so no comparator or subtractor sits between the input beat and
 // the registers. An SOF beat is checked at (0, 0) against its own
 // configuration, where only "width <= 1" / "height <= 1" matter.
-module frame_check #(
-  parameter int unsigned CoordBits   = ceilnav_widths_pkg::CoordBits,  // x, y in [0, 2^CoordBits - 1]
-  parameter int unsigned CounterBits = 32
-) (
-  input  logic                   clk_i,
-  input  logic                   rst_ni,
+module frame_check (
+  input  logic                  clk_i,
+  input  logic                  rst_ni,
 
   // AXI4-Stream video from the camera (tuser = SOF, tlast = EOL)
-  input  logic [7:0]             s_axis_video_tdata_i,
-  input  logic                   s_axis_video_tvalid_i,
-  output logic                   s_axis_video_tready_o,
-  input  logic                   s_axis_video_tuser_i,
-  input  logic                   s_axis_video_tlast_i,
+  input  ceilnav_pkg::pixel_t   s_axis_video_tdata_i,
+  input  logic                  s_axis_video_tvalid_i,
+  output logic                  s_axis_video_tready_o,
+  input  logic                  s_axis_video_tuser_i,
+  input  logic                  s_axis_video_tlast_i,
 
   // Geometry, sampled on an SOF beat, clamped to 1 .. 2^CoordBits
-  input  logic [CoordBits:0]     cfg_width_i,
-  input  logic [CoordBits:0]     cfg_height_i,
+  input  ceilnav_pkg::geom_t    cfg_width_i,
+  input  ceilnav_pkg::geom_t    cfg_height_i,
 
   // Pixel stream (PixelBeat)
-  output logic                   m_pix_valid_o,
-  output logic [7:0]             m_pix_grey_o,
-  output logic [CoordBits-1:0]   m_pix_x_o,
-  output logic [CoordBits-1:0]   m_pix_y_o,
-  output logic                   m_pix_sof_o,
-  output logic                   m_pix_eol_o,
-  output logic                   m_pix_eof_o,
-  output logic                   m_pix_abort_o,
+  output logic                  m_pix_valid_o,
+  output ceilnav_pkg::pixel_t   m_pix_grey_o,
+  output ceilnav_pkg::coord_t   m_pix_x_o,
+  output ceilnav_pkg::coord_t   m_pix_y_o,
+  output logic                  m_pix_sof_o,
+  output logic                  m_pix_eol_o,
+  output logic                  m_pix_eof_o,
+  output logic                  m_pix_abort_o,
 
   // Error counters (FrameErrorCounters), cumulative since reset, saturating
-  output logic [CounterBits-1:0] early_eol_o,
-  output logic [CounterBits-1:0] late_eol_o,
-  output logic [CounterBits-1:0] early_sof_o,
-  output logic [CounterBits-1:0] missing_sof_o,
-  output logic [CounterBits-1:0] frames_ok_o,
-  output logic [CounterBits-1:0] frames_aborted_o
+  output ceilnav_pkg::word_t    early_eol_o,
+  output ceilnav_pkg::word_t    late_eol_o,
+  output ceilnav_pkg::word_t    early_sof_o,
+  output ceilnav_pkg::word_t    missing_sof_o,
+  output ceilnav_pkg::word_t    frames_ok_o,
+  output ceilnav_pkg::word_t    frames_aborted_o
 );
 
-  localparam int unsigned GeomBits = CoordBits + 1;  // cfg ports: 0 .. 2^GeomBits - 1
-  localparam logic [GeomBits-1:0] MaxGeom = GeomBits'(1) << CoordBits;
-  localparam logic [CoordBits-1:0] MaxCoord = '1;
+  localparam int unsigned CoordBits   = ceilnav_pkg::CoordBits;    // x, y in [0, 2^CoordBits - 1]
+  localparam int unsigned GeomBits    = ceilnav_pkg::GeomBits;     // cfg ports: CoordBits + 1
+  localparam int unsigned CounterBits = ceilnav_pkg::CounterBits;  // = WordBits (the ports)
+  localparam int unsigned ErrCount    = ceilnav_pkg::ErrCount;
+  localparam ceilnav_pkg::geom_t  MaxGeom  = GeomBits'(1) << CoordBits;
+  // Not '1: Yosys 0.23 synthesises a '1 fill in a localparam as 1.
+  localparam ceilnav_pkg::coord_t MaxCoord = CoordBits'(MaxGeom - GeomBits'(1));
 
-  localparam logic [1:0] StIdle    = 2'd0;  // expecting an SOF
-  localparam logic [1:0] StInFrame = 2'd1;  // x_q/y_q: position of the next pixel
-  localparam logic [1:0] StDiscard = 2'd2;  // after an error: drop until the next SOF
-
-  logic [1:0]           state_d, state_q;
+  ceilnav_pkg::fc_state_e state_d, state_q;
   // Latched geometry minus one: the last column / line of the open frame.
-  logic [CoordBits-1:0] x_max_q, y_max_q;
-  logic [CoordBits-1:0] x_d, x_q, y_d, y_q;
+  ceilnav_pkg::coord_t  x_max_q, y_max_q;
+  ceilnav_pkg::coord_t  x_d, x_q, y_d, y_q;
   logic                 x_last_d, x_last_q;  // x_q == x_max_q
   logic                 y_last_d, y_last_q;  // y_q == y_max_q
 
-  logic                 pix_valid_q, pix_sof_q, pix_eol_q, pix_eof_q, pix_abort_d, pix_abort_q;
-  logic [7:0]           pix_grey_q;
-  logic [CoordBits-1:0] pix_x_q, pix_y_q;
+  // The registered output beat.
+  ceilnav_pkg::pix_beat_t pix_q;
+  logic                   pix_abort_d;
 
   assign s_axis_video_tready_o = 1'b1;  // the camera cannot be stalled
 
   // clamp(cfg, 1, 2^CoordBits) - 1 (function results by name: yosys 0.23 has no `return`).
-  function automatic logic [CoordBits-1:0] geom_max(logic [GeomBits-1:0] cfg);
+  function automatic ceilnav_pkg::coord_t geom_max(ceilnav_pkg::geom_t cfg);
     geom_max = (cfg == '0) ? '0 : (cfg > MaxGeom) ? MaxCoord : CoordBits'(cfg - GeomBits'(1));
   endfunction
 
@@ -82,7 +79,7 @@ module frame_check #(
   assign cfg_h_is2 = cfg_height_i == GeomBits'(2);
 
   assign sof_beat    = s_axis_video_tvalid_i & s_axis_video_tuser_i;
-  assign in_frame    = state_q == StInFrame;
+  assign in_frame    = state_q == ceilnav_pkg::FcInFrame;
   // The SOF pixel is at (0, 0) of its own geometry: the last column iff width <= 1.
   assign at_eol      = sof_beat ? cfg_w_le1 : x_last_q;
   assign at_eof      = at_eol & (sof_beat ? cfg_h_le1 : y_last_q);
@@ -90,7 +87,7 @@ module frame_check #(
   assign eol_error   = checked & (s_axis_video_tlast_i ^ at_eol);
   assign good        = checked & ~(s_axis_video_tlast_i ^ at_eol);
   assign early_sof   = sof_beat & in_frame;
-  assign missing_sof = s_axis_video_tvalid_i & ~s_axis_video_tuser_i & (state_q == StIdle);
+  assign missing_sof = s_axis_video_tvalid_i & ~s_axis_video_tuser_i & (state_q == ceilnav_pkg::FcIdle);
 
   // In a frame, (x, y) = (0, 0) only on the SOF beat (x or y moves on with
   // every good pixel until the EOF), so the first pixel is the SOF beat. A
@@ -99,7 +96,7 @@ module frame_check #(
 
   // ---------------------------------------------------------------------------
   // Position of the next pixel and the registered last-column/line tests.
-  logic [CoordBits-1:0] x_inc, y_inc;
+  ceilnav_pkg::coord_t x_inc, y_inc;
   assign x_inc = x_q + CoordBits'(1);
   assign y_inc = y_q + CoordBits'(1);
 
@@ -110,9 +107,9 @@ module frame_check #(
     x_last_d = x_last_q;
     y_last_d = y_last_q;
     if (missing_sof || eol_error) begin
-      state_d = StDiscard;
+      state_d = ceilnav_pkg::FcDiscard;
     end else if (good) begin
-      state_d = at_eof ? StIdle : StInFrame;
+      state_d = at_eof ? ceilnav_pkg::FcIdle : ceilnav_pkg::FcInFrame;
       if (sof_beat) begin
         // Next pixel: (1, 0), or (0, 1) in a frame one pixel wide.
         x_d      = at_eol ? '0 : CoordBits'(1);
@@ -133,8 +130,8 @@ module frame_check #(
 
   // ---------------------------------------------------------------------------
   // Saturating error counters: the carry out of q + 1 is "q is all ones".
-  logic [5:0] inc;  // early_eol, late_eol, early_sof, missing_sof, frames_ok, frames_aborted
-  logic [6*CounterBits-1:0] cnt_q;  // counter i at [i*CounterBits +: CounterBits]
+  logic [ErrCount-1:0] inc;  // early_eol, late_eol, early_sof, missing_sof, frames_ok, frames_aborted
+  logic [ErrCount*CounterBits-1:0] cnt_q;  // counter i at [i*CounterBits +: CounterBits]
   assign inc[0] = eol_error & s_axis_video_tlast_i;
   assign inc[1] = eol_error & ~s_axis_video_tlast_i;
   assign inc[2] = early_sof;
@@ -142,7 +139,7 @@ module frame_check #(
   assign inc[4] = good & at_eof;
   assign inc[5] = pix_abort_d;
 
-  for (genvar i = 0; i < 6; i++) begin : g_counter
+  for (genvar i = 0; i < ErrCount; i++) begin : g_counter
     logic [CounterBits:0] sum;
     assign sum = {1'b0, cnt_q[i*CounterBits +: CounterBits]} + (CounterBits + 1)'(1);
     always_ff @(posedge clk_i) begin
@@ -158,21 +155,14 @@ module frame_check #(
   // Registers.
   always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
-      state_q     <= StIdle;
+      state_q     <= ceilnav_pkg::FcIdle;
       x_max_q     <= '0;
       y_max_q     <= '0;
       x_q         <= '0;
       y_q         <= '0;
       x_last_q    <= 1'b0;
       y_last_q    <= 1'b0;
-      pix_valid_q <= 1'b0;
-      pix_grey_q  <= 8'd0;
-      pix_x_q     <= '0;
-      pix_y_q     <= '0;
-      pix_sof_q   <= 1'b0;
-      pix_eol_q   <= 1'b0;
-      pix_eof_q   <= 1'b0;
-      pix_abort_q <= 1'b0;
+      pix_q       <= '0;
     end else begin
       state_q  <= state_d;
       x_q      <= x_d;
@@ -183,25 +173,25 @@ module frame_check #(
         x_max_q <= geom_max(cfg_width_i);
         y_max_q <= geom_max(cfg_height_i);
       end
-      pix_valid_q <= good;
-      pix_grey_q  <= good ? s_axis_video_tdata_i : 8'd0;
-      pix_x_q     <= good && !sof_beat ? x_q : '0;
-      pix_y_q     <= good && !sof_beat ? y_q : '0;
-      pix_sof_q   <= good & sof_beat;
-      pix_eol_q   <= good & at_eol;
-      pix_eof_q   <= good & at_eof;
-      pix_abort_q <= pix_abort_d;
+      pix_q.valid <= good;
+      pix_q.grey  <= good ? s_axis_video_tdata_i : '0;
+      pix_q.x     <= good && !sof_beat ? x_q : '0;
+      pix_q.y     <= good && !sof_beat ? y_q : '0;
+      pix_q.sof   <= good & sof_beat;
+      pix_q.eol   <= good & at_eol;
+      pix_q.eof   <= good & at_eof;
+      pix_q.abort_frame <= pix_abort_d;
     end
   end
 
-  assign m_pix_valid_o    = pix_valid_q;
-  assign m_pix_grey_o     = pix_grey_q;
-  assign m_pix_x_o        = pix_x_q;
-  assign m_pix_y_o        = pix_y_q;
-  assign m_pix_sof_o      = pix_sof_q;
-  assign m_pix_eol_o      = pix_eol_q;
-  assign m_pix_eof_o      = pix_eof_q;
-  assign m_pix_abort_o    = pix_abort_q;
+  assign m_pix_valid_o    = pix_q.valid;
+  assign m_pix_grey_o     = pix_q.grey;
+  assign m_pix_x_o        = pix_q.x;
+  assign m_pix_y_o        = pix_q.y;
+  assign m_pix_sof_o      = pix_q.sof;
+  assign m_pix_eol_o      = pix_q.eol;
+  assign m_pix_eof_o      = pix_q.eof;
+  assign m_pix_abort_o    = pix_q.abort_frame;
   assign early_eol_o      = cnt_q[0*CounterBits +: CounterBits];
   assign late_eol_o       = cnt_q[1*CounterBits +: CounterBits];
   assign early_sof_o      = cnt_q[2*CounterBits +: CounterBits];
@@ -213,12 +203,13 @@ module frame_check #(
   // The registered tests agree with the position, which stays inside the
   // open frame; (0, 0) is never the next pixel of an open frame.
   LastFlagsExact: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      state_q != StInFrame || (x_last_q == (x_q == x_max_q) && y_last_q == (y_q == y_max_q)));
+      state_q != ceilnav_pkg::FcInFrame || (x_last_q == (x_q == x_max_q) && y_last_q == (y_q == y_max_q)));
   PositionInFrame: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      state_q != StInFrame || (x_q <= x_max_q && y_q <= y_max_q));
+      state_q != ceilnav_pkg::FcInFrame || (x_q <= x_max_q && y_q <= y_max_q));
   NotFirstPixel: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      state_q != StInFrame || x_q != '0 || y_q != '0);
-  StateLegal: assert property (@(posedge clk_i) disable iff (!rst_ni) state_q != 2'd3);
+      state_q != ceilnav_pkg::FcInFrame || x_q != '0 || y_q != '0);
+  StateLegal: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      state_q inside {ceilnav_pkg::FcIdle, ceilnav_pkg::FcInFrame, ceilnav_pkg::FcDiscard});
 `endif
 
 endmodule

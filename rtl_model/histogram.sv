@@ -11,24 +11,20 @@
 // done_o: kept EOF sampled on edge e -> done_o high after edge e+1 (1 cycle).
 // Read port: hist_rd_en_i/hist_rd_bin_i sampled on edge t ->
 // hist_rd_data_o after edge t (bin of the results before edge t), else 0.
-module histogram #(
-  parameter int unsigned CoordBits = ceilnav_widths_pkg::CoordBits,
-  // A bin counts at most every pixel of the largest frame, 2^(2*CoordBits).
-  parameter int unsigned BinBits   = 2 * CoordBits + 1
-) (
+module histogram (
   input  logic                 clk_i,
   input  logic                 rst_ni,
 
   // LutBeat from thresh_lut
   input  logic                 s_lut_valid_i,
-  input  logic [7:0]           s_lut_grey_i,
-  input  logic [CoordBits-1:0] s_lut_x_i,
-  input  logic [CoordBits-1:0] s_lut_y_i,
+  input  ceilnav_pkg::pixel_t  s_lut_grey_i,
+  input  ceilnav_pkg::coord_t  s_lut_x_i,
+  input  ceilnav_pkg::coord_t  s_lut_y_i,
   input  logic                 s_lut_sof_i,
   input  logic                 s_lut_eol_i,
   input  logic                 s_lut_eof_i,
   input  logic                 s_lut_abort_i,
-  input  logic [7:0]           s_lut_remap_i,
+  input  ceilnav_pkg::pixel_t  s_lut_remap_i,
   input  logic                 s_lut_mask_i,
 
   // Source of the bin index: 0 = camera grey, 1 = LUT remap; latched at SOF
@@ -43,9 +39,17 @@ module histogram #(
 
   // Results read port (BRAM style, one cycle)
   input  logic                 hist_rd_en_i,
-  input  logic [7:0]           hist_rd_bin_i,
-  output logic [BinBits-1:0]   hist_rd_data_o
+  input  ceilnav_pkg::pixel_t  hist_rd_bin_i,
+  output logic [ceilnav_pkg::BinBits-1:0] hist_rd_data_o
 );
+
+  localparam int unsigned CoordBits = ceilnav_pkg::CoordBits;
+  // A bin counts at most every pixel of the largest frame, 2^(2*CoordBits).
+  localparam int unsigned BinBits   = ceilnav_pkg::BinBits;
+  localparam int unsigned IndexBits = ceilnav_pkg::BinIndexBits;  // bin index: grey or remap
+  localparam int unsigned Bins      = 1 << IndexBits;
+  localparam logic [IndexBits-1:0] LastBin = IndexBits'(Bins - 1);
+  typedef logic [IndexBits-1:0] index_t;
 
   localparam int unsigned Banks = 3;
   localparam logic [BinBits-1:0] MaxCount = BinBits'(1) << (2 * CoordBits);
@@ -71,7 +75,7 @@ module histogram #(
   // Stage 1 -> 2 of the read-modify-write
   logic               s1_accum_q;  // count written on the next edge
   logic               s1_sof_q;    // first pixel of its frame: the bank reads 0
-  logic [7:0]         s1_bin_q;
+  index_t             s1_bin_q;
   bank_t              s1_bank_q;
   logic               s1_fwd_q;    // its count is being written: forward it
   logic [BinBits-1:0] last_count_q;
@@ -84,7 +88,7 @@ module histogram #(
   // Stage 1: classify the sampled beat
   logic  sof, free_ok, beat_counts, src_remap;
   bank_t free_bank, bank;
-  logic [7:0] bin;
+  index_t bin;
 
   // A reset marks the bank of the last frame dirty (it may hold a partial
   // count) from its edge on; dirty_q takes the mark on the next edge.
@@ -130,16 +134,16 @@ module histogram #(
   assign pix_rd = beat_counts & ~sof;
 
   for (genvar b = 0; b < Banks; b++) begin : g_bank
-    (* ram_style = "block" *) logic [BinBits-1:0] mem [256];
+    (* ram_style = "block" *) logic [BinBits-1:0] mem [Bins];
     // Configuration contents: zeros (every bank clean, dirty_q = 0).
     initial begin
-      for (int i = 0; i < 256; i++) begin
+      for (int i = 0; i < Bins; i++) begin
         mem[i] = '0;
       end
     end
 
     logic       rd_pix, rd_en, wr_acc, wr_en;
-    logic [7:0] rd_addr, wr_addr, clr_ptr_q;
+    index_t     rd_addr, wr_addr, clr_ptr_q;
 
     assign rd_pix  = pix_rd && acc_q == BankBits'(b);
     assign rd_en   = rd_pix || (hist_rd_en_i && disp_q == BankBits'(b));
@@ -149,7 +153,7 @@ module histogram #(
     // anything there (power-up), and a reset changes no bank contents.
     assign wr_en   = rst_ni && (wr_acc || clr_busy_q[b]);
     assign wr_addr = wr_acc ? s1_bin_q : clr_ptr_q;
-    assign clr_done[b] = rst_ni & clr_busy_q[b] & (clr_ptr_q == 8'd255);
+    assign clr_done[b] = rst_ni & clr_busy_q[b] & (clr_ptr_q == LastBin);
 
     always_ff @(posedge clk_i) begin
       if (wr_en) begin
@@ -166,7 +170,7 @@ module histogram #(
         clr_busy_q[b] <= 1'b0;
         clr_ptr_q     <= '0;
       end else if (clr_busy_q[b]) begin
-        clr_ptr_q <= clr_ptr_q + 8'd1;
+        clr_ptr_q <= clr_ptr_q + IndexBits'(1);
         if (clr_done[b]) begin
           clr_busy_q[b] <= 1'b0;
         end
@@ -226,7 +230,7 @@ module histogram #(
       res_valid_q    <= 1'b0;
       s1_accum_q     <= 1'b0;
       s1_sof_q       <= 1'b0;
-      s1_bin_q       <= 8'd0;
+      s1_bin_q       <= '0;
       s1_bank_q      <= '0;
       s1_fwd_q       <= 1'b0;
       last_count_q   <= '0;

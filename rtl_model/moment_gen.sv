@@ -14,14 +14,14 @@ module moment_gen (
 
   // s_lut: pixel beat from thresh_lut (LutBeat).
   input  logic        s_lut_valid_i,
-  input  logic [7:0]  s_lut_grey_i,
-  input  logic [10:0] s_lut_x_i,
-  input  logic [10:0] s_lut_y_i,
+  input  ceilnav_pkg::pixel_t s_lut_grey_i,
+  input  ceilnav_pkg::coord_t s_lut_x_i,
+  input  ceilnav_pkg::coord_t s_lut_y_i,
   input  logic        s_lut_sof_i,
   input  logic        s_lut_eol_i,
   input  logic        s_lut_eof_i,
   input  logic        s_lut_abort_i,
-  input  logic [7:0]  s_lut_remap_i,
+  input  ceilnav_pkg::pixel_t s_lut_remap_i,
   input  logic        s_lut_mask_i,
   // The EOF beat on the input is dropped (counted as an overrun, no combine):
   // the histogram had no cleared bank for this frame.
@@ -36,16 +36,19 @@ module moment_gen (
   // MOM_GREY_LO .. MOM_MASK_HI register order. Written into the device's
   // result store (docs/blocks/moment_gen.md, "Result words").
   output logic        mom_wr_valid_o,
-  output logic [4:0]  mom_wr_index_o,
-  output logic [31:0] mom_wr_data_o,
+  output logic [ceilnav_pkg::MomIndexBits-1:0] mom_wr_index_o,
+  output ceilnav_pkg::word_t mom_wr_data_o,
   output logic        combine_busy_o,
-  output logic [31:0] overrun_count_o
+  output ceilnav_pkg::word_t overrun_count_o
 );
 
   // Widths for W = H = 2048, derived with their proofs in
   // fixedpoint/datapath.hpp (namespace moment_gen) and generated into
   // ceilnav_widths_pkg (G = grey, K = mask).
-  localparam int unsigned CoordBits = ceilnav_widths_pkg::CoordBits;
+  localparam int unsigned CoordBits = ceilnav_pkg::CoordBits;
+  localparam int unsigned WordBits = ceilnav_pkg::WordBits;
+  localparam int unsigned Moments = ceilnav_pkg::MomentCount;  // m00 m10 m01 m20 m11 m02
+  localparam int unsigned IndexBits = ceilnav_pkg::MomIndexBits;  // result word index
   localparam int unsigned DimBits = ceilnav_widths_pkg::DimBits;  // W, H in 1 .. 2^CoordBits
   // Row accumulators A1, A2, A3.
   localparam int unsigned GA1 = ceilnav_widths_pkg::GA1, GA2 = ceilnav_widths_pkg::GA2,
@@ -75,9 +78,9 @@ module moment_gen (
   // is read at k < N and written at 1 <= k <= N (one stream register between).
   // The grey and the mask pass run side by side, from the same edge.
   localparam int unsigned CntBits = 6;
-  localparam logic [CntBits-1:0] Load0 = 6'd1;  // F00 final after edge EOF+1
-  localparam logic [CntBits-1:0] Load1 = 6'd2;  // F10, F01
-  localparam logic [CntBits-1:0] Load2 = 6'd3;  // F20, F11, F02
+  localparam logic [CntBits-1:0] Load0 = CntBits'(1);  // F00 final after edge EOF+1
+  localparam logic [CntBits-1:0] Load1 = CntBits'(2);  // F10, F01
+  localparam logic [CntBits-1:0] Load2 = CntBits'(3);  // F20, F11, F02
   localparam int unsigned PassStart = 4;
   localparam logic [CntBits-1:0] DoneCnt = CntBits'(PassStart + PassBits + 1);  // 56
 
@@ -106,8 +109,9 @@ module moment_gen (
   end
 
   // The cascade is skewed: stage k works on the pixel taken k edges before.
-  logic [2:1] val_q, rs_q;  // stage k: valid pixel, first of its row
-  logic [3:1] eol_q, fr_q;  // stage k: valid row end, in the frame's first row
+  localparam int unsigned Stages = 3;  // A1 / F00, A2 / F10 F01, A3 / F20 F11 F02
+  logic [Stages-1:1] val_q, rs_q;  // stage k: valid pixel, first of its row
+  logic [Stages:1]   eol_q, fr_q;  // stage k: valid row end, in the frame's first row
 
   always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
@@ -118,8 +122,8 @@ module moment_gen (
     end else begin
       val_q <= {val_q[1], take};
       rs_q  <= {rs_q[1], row_start};
-      eol_q <= {eol_q[2:1], take & s_lut_eol_i};
-      fr_q  <= {fr_q[2:1], first_row};
+      eol_q <= {eol_q[Stages-1:1], take & s_lut_eol_i};
+      fr_q  <= {fr_q[Stages-1:1], first_row};
     end
   end
 
@@ -225,7 +229,7 @@ module moment_gen (
   logic               busy_q;
   logic [CntBits-1:0] cnt_q;
   logic               accept, last_step;
-  logic [31:0]        overrun_count_q;
+  ceilnav_pkg::word_t overrun_count_q;
   logic [DimBits-1:0] w_q, h_q;
 
   assign last_step = busy_q & (cnt_q == DoneCnt);
@@ -250,8 +254,8 @@ module moment_gen (
       end else if (busy_q) begin
         cnt_q <= cnt_q + CntBits'(1);
       end
-      if (eof_take && !accept && overrun_count_q != 32'hFFFF_FFFF) begin
-        overrun_count_q <= overrun_count_q + 32'd1;
+      if (eof_take && !accept && overrun_count_q != {WordBits{1'b1}}) begin
+        overrun_count_q <= overrun_count_q + WordBits'(1);
       end
     end
   end
@@ -285,10 +289,10 @@ module moment_gen (
 
   // Serial result bits m_ab (bit k-1 during pass bit k) of each image, below:
   // {m02, m11, m20, m01, m10, m00}.
-  logic [5:0] gm_s, km_s;
+  logic [Moments-1:0] gm_s, km_s;
 
   // Shift enables: pass bits 0 .. N of the register's own pass.
-  logic [5:0] g_sh, k_sh;
+  logic [Moments-1:0] g_sh, k_sh;
   assign g_sh[0] = busy_q & in_win(cnt_q, PassStart, GR00 + 1);
   assign g_sh[1] = busy_q & in_win(cnt_q, PassStart, GR10 + 1);
   assign g_sh[2] = busy_q & in_win(cnt_q, PassStart, GR01 + 1);
@@ -359,7 +363,7 @@ module moment_gen (
   // Operand streams F_ab of each image, bit k of the pass: the register's LSB
   // while k < N, then 0 (F < 2^N). Registered in the datapath: one pass bit
   // behind cnt_q.
-  logic [5:0] gf_d, kf_d;  // {F02, F11, F20, F01, F10, F00}
+  logic [Moments-1:0] gf_d, kf_d;  // {F02, F11, F20, F01, F10, F00}
   assign gf_d[0] = gr00_q[0] & in_win(cnt_q, PassStart, GR00);
   assign gf_d[1] = gr10_q[0] & in_win(cnt_q, PassStart, GR10);
   assign gf_d[2] = gr01_q[0] & in_win(cnt_q, PassStart, GR01);
@@ -375,7 +379,7 @@ module moment_gen (
 
   // One serial datapath per image (0: grey, 1: mask), identical.
   for (genvar img = 0; img < 2; img++) begin : g_img
-    logic [5:0] f_d, f_q;
+    logic [Moments-1:0] f_d, f_q;
     logic       m00_s, m10_s, m01_s, m20_s, m11_s, m02_s;
     assign f_d = (img == 0) ? gf_d : kf_d;
 
@@ -476,10 +480,11 @@ module moment_gen (
   // ahead of it, so a shift loses nothing and every slot is only as wide as its
   // widest possible content: 477 flops, as many as the moments have bits);
   // the head slot is written out, one word per edge.
-  localparam int unsigned MomWords = 24;
+  localparam int unsigned MomWords = ceilnav_pkg::MomWords;
   localparam int unsigned ChainSlots = 20;  // words of nonzero width
-  // Write order: word index of chain position k at [5*k +: 5] (k = 0 first).
-  localparam logic [MomWords*5-1:0] WordOrder = {
+  // Write order: word index of chain position k at [IndexBits*k +: IndexBits]
+  // (k = 0 first; the entries are IndexBits = 5 bits wide).
+  localparam logic [MomWords*IndexBits-1:0] WordOrder = {
     5'd20, 5'd19, 5'd18, 5'd6,                  // zero width: grey m00 hi, mask m00/m10/m01 hi
     5'd8, 5'd7, 5'd22, 5'd23, 5'd21, 5'd10,     // hi words: 8 8 10 11 11 18 bits
     5'd11, 5'd9, 5'd12, 5'd0,                   // 19 19 bits; mask m00 lo 23; grey m00 lo 30
@@ -487,22 +492,24 @@ module moment_gen (
     5'd5, 5'd4, 5'd3, 5'd2, 5'd1};              // grey lo words m02..m10: 32 bits
 
   // Word w of the moments in the shift registers (after the last pass step).
-  function automatic logic [31:0] word_value(logic [4:0] w);
-    logic [63:0] m;
-    unique case (w % 6)
-      0: m = (w < 12) ? 64'(gr00_q) : 64'(kr00_q);
-      1: m = (w < 12) ? 64'(gr10_q) : 64'(kr10_q[31:0]);
-      2: m = (w < 12) ? 64'(gr01_q) : 64'(kr01_q[31:0]);
-      3: m = (w < 12) ? 64'(gr20_q) : 64'(kr20_q);
-      4: m = (w < 12) ? 64'(gr11_q) : 64'(kr11_q[41:0]);
-      default: m = (w < 12) ? 64'(gr02_q) : 64'(kr02_q);
+  // Mask words carry the bits a mask moment can have (m10, m01 < 2^32; m11 < 2^42).
+  localparam int unsigned MomBits = 2 * WordBits;  // a moment as two words, lo and hi
+  function automatic ceilnav_pkg::word_t word_value(logic [IndexBits-1:0] w);
+    logic [MomBits-1:0] m;
+    unique case (w % IndexBits'(Moments))
+      0: m = (w < 12) ? MomBits'(gr00_q) : MomBits'(kr00_q);
+      1: m = (w < 12) ? MomBits'(gr10_q) : MomBits'(kr10_q[WordBits-1:0]);
+      2: m = (w < 12) ? MomBits'(gr01_q) : MomBits'(kr01_q[WordBits-1:0]);
+      3: m = (w < 12) ? MomBits'(gr20_q) : MomBits'(kr20_q);
+      4: m = (w < 12) ? MomBits'(gr11_q) : MomBits'(kr11_q[41:0]);
+      default: m = (w < 12) ? MomBits'(gr02_q) : MomBits'(kr02_q);
     endcase
-    word_value = ((w / 6) % 2 == 0) ? m[31:0] : m[63:32];
+    word_value = ((w / IndexBits'(Moments)) % 2 == 0) ? m[WordBits-1:0] : m[MomBits-1:WordBits];
   endfunction
 
-  logic [ChainSlots*32-1:0]   slot_q;  // slot k at [32*k +: 32]
+  logic [ChainSlots*WordBits-1:0] slot_q;  // slot k at [WordBits*k +: WordBits]
   logic                        wr_active_q, done_q;
-  logic [4:0]                  wr_step_q;
+  logic [IndexBits-1:0]        wr_step_q;
 
   always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
@@ -513,26 +520,26 @@ module moment_gen (
     end else begin
       if (last_step) begin
         for (int unsigned k = 0; k < ChainSlots; k++) begin
-          slot_q[32*k +: 32] <= word_value(WordOrder[5*k +: 5]);
+          slot_q[WordBits*k +: WordBits] <= word_value(WordOrder[IndexBits*k +: IndexBits]);
         end
         wr_active_q <= 1'b1;
         wr_step_q   <= '0;
       end else if (wr_active_q) begin
-        slot_q      <= {32'd0, slot_q[ChainSlots*32-1:32]};
-        wr_step_q   <= wr_step_q + 5'd1;
-        wr_active_q <= wr_step_q != 5'(MomWords - 1);
+        slot_q      <= {WordBits'(0), slot_q[ChainSlots*WordBits-1:WordBits]};
+        wr_step_q   <= wr_step_q + IndexBits'(1);
+        wr_active_q <= wr_step_q != IndexBits'(MomWords - 1);
       end
       done_q <= last_step;
     end
   end
 
-  logic [4:0] step_word;  // WordOrder entry of wr_step_q (read only while writing)
-  assign step_word = WordOrder[5*wr_step_q +: 5];
+  logic [IndexBits-1:0] step_word;  // WordOrder entry of wr_step_q (read only while writing)
+  assign step_word = WordOrder[IndexBits*wr_step_q +: IndexBits];
 
   assign done_o          = done_q;
   assign mom_wr_valid_o  = wr_active_q;
-  assign mom_wr_index_o  = wr_active_q ? step_word : 5'd0;
-  assign mom_wr_data_o   = slot_q[31:0];
+  assign mom_wr_index_o  = wr_active_q ? step_word : '0;
+  assign mom_wr_data_o   = slot_q[WordBits-1:0];
   assign combine_busy_o  = busy_q;
   assign done_next_o     = last_step;
   assign eof_accept_o    = accept;
@@ -540,13 +547,14 @@ module moment_gen (
 
   // The camera pixel itself is not used: moments are of the LUT output.
   logic unused;
-  assign unused = ^{s_lut_grey_i, kr10_q[KR10-1:32], kr01_q[KR01-1:32], kr11_q[KR11-1:42]};
+  assign unused = ^{s_lut_grey_i, kr10_q[KR10-1:WordBits], kr01_q[KR01-1:WordBits],
+                    kr11_q[KR11-1:42]};
 
 `ifndef SYNTHESIS
   // frame_check guarantees the pixel position and rectangular frames; the
   // cascade needs both (the C++ model throws std::logic_error instead).
-  logic [CoordBits-1:0] x_chk_q, y_chk_q, w_chk_q;
-  logic [CoordBits-1:0] x_chk, y_chk;
+  ceilnav_pkg::coord_t x_chk_q, y_chk_q, w_chk_q;
+  ceilnav_pkg::coord_t x_chk, y_chk;
   assign x_chk = s_lut_sof_i ? '0 : x_chk_q;
   assign y_chk = s_lut_sof_i ? '0 : y_chk_q;
   always_ff @(posedge clk_i) begin

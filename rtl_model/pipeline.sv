@@ -23,45 +23,47 @@ module pipeline #(
   // 0: no class_moments and no published copy of its results; res_class_mom_o = 0
   // (C++: Pipeline(depth, /*has_class_moments=*/false)).
   parameter bit          HasClassMoments = 1'b1,
-  localparam int unsigned CoordBits = ceilnav_widths_pkg::CoordBits,
-  localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1
+  localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1,
+  // Published class moments: class c, MomentIndex k at [MomentBits*(6*(c-1)+k) +: MomentBits].
+  localparam int unsigned ClassMomBits = ceilnav_pkg::MaxClasses * ceilnav_pkg::MomentCount *
+                                         ceilnav_pkg::MomentBits
 ) (
   input  logic                     clk_i,
   input  logic                     rst_ni,       // synchronous, active low
 
   // Video (tready = 1)
-  input  logic [7:0]               s_axis_video_tdata_i,
+  input  ceilnav_pkg::pixel_t      s_axis_video_tdata_i,
   input  logic                     s_axis_video_tvalid_i,
   input  logic                     s_axis_video_tuser_i,
   input  logic                     s_axis_video_tlast_i,
 
   // Shadow configuration (PipelineConfig), active from the next SOF beat
-  input  logic [CoordBits:0]       cfg_width_i,
-  input  logic [CoordBits:0]       cfg_height_i,
-  input  logic [7:0]               cfg_background_level_i,
-  input  logic [15:0]              cfg_min_run_length_i,
-  input  logic [15:0]              cfg_max_runs_per_row_i,
+  input  ceilnav_pkg::geom_t       cfg_width_i,
+  input  ceilnav_pkg::geom_t       cfg_height_i,
+  input  ceilnav_pkg::pixel_t      cfg_background_level_i,
+  input  ceilnav_pkg::run_field_t  cfg_min_run_length_i,
+  input  ceilnav_pkg::run_field_t  cfg_max_runs_per_row_i,
   input  logic                     cfg_hist_source_remap_i,
-  input  logic [CoordBits:0]       cfg_class_win_x0_i,  // class_moments window [x0, x1) x [y0, y1)
-  input  logic [CoordBits:0]       cfg_class_win_x1_i,
-  input  logic [CoordBits:0]       cfg_class_win_y0_i,
-  input  logic [CoordBits:0]       cfg_class_win_y1_i,
+  input  ceilnav_pkg::win_t        cfg_class_win_x0_i,  // class_moments window [x0, x1) x [y0, y1)
+  input  ceilnav_pkg::win_t        cfg_class_win_x1_i,
+  input  ceilnav_pkg::win_t        cfg_class_win_y0_i,
+  input  ceilnav_pkg::win_t        cfg_class_win_y1_i,
 
   // LUT write port (shadow bank)
   input  logic                     lut_wr_en_i,
-  input  logic [7:0]               lut_wr_index_i,
-  input  logic [10:0]              lut_wr_data_i,
+  input  ceilnav_pkg::pixel_t      lut_wr_index_i,
+  input  ceilnav_pkg::lut_entry_t  lut_wr_data_i,
 
   // Runs
   output logic                     m_axis_runs_tvalid_o,
   input  logic                     m_axis_runs_tready_i,
   output logic                     m_axis_runs_tlast_o,
-  output logic [111:0]             m_axis_runs_tdata_o,
+  output ceilnav_pkg::run_beat_t   m_axis_runs_tdata_o,
 
   // Histogram read port (result bank, one cycle)
   input  logic                     hist_rd_en_i,
-  input  logic [7:0]               hist_rd_bin_i,
-  output logic [2*CoordBits:0]     hist_rd_data_o,
+  input  ceilnav_pkg::pixel_t      hist_rd_bin_i,
+  output logic [ceilnav_pkg::BinBits-1:0] hist_rd_data_o,
 
   // Published results (FrameResults); frame_done_o: one-cycle pulse, high in
   // the first cycle that shows a new set.
@@ -75,38 +77,32 @@ module pipeline #(
   // at ResMetaBase + 16 * bank while the frame's moments combine; the bank
   // becomes res_bank_o on the publication edge.
   output logic                     res_wr_valid_o,
-  output logic [7:0]               res_wr_addr_o,
-  output logic [31:0]              res_wr_data_o,
+  output logic [ceilnav_pkg::StoreAddrBits-1:0] res_wr_addr_o,
+  output ceilnav_pkg::word_t       res_wr_data_o,
   output logic                     res_bank_o,
   output logic                     res_overflow_nonzero_o,  // published RUNS_DROPPED_OVERFLOW != 0
   output logic                     mom_wr_valid_o,  // moments being written: reads of them wait
-  output logic [18*64-1:0]         res_class_mom_o,  // class c, MomentIndex k at [64*(6*(c-1)+k) +: 64]
+  output logic [ClassMomBits-1:0]  res_class_mom_o,
 
   // Live status
-  output logic [6*32-1:0]          errors_o,  // early_eol, late_eol, early_sof, missing_sof,
-                                              // frames_ok, frames_aborted
-  output logic [31:0]              frames_overrun_o,
-  output logic [31:0]              run_trailers_lost_o,
+  output ceilnav_pkg::frame_errors_t errors_o,  // frame_check's counters
+  output ceilnav_pkg::word_t       frames_overrun_o,
+  output ceilnav_pkg::word_t       run_trailers_lost_o,
   output logic [FifoCountBits-1:0] run_fifo_occupancy_o
 );
 
-  localparam int unsigned ErrFramesOk = 4;
+  localparam int unsigned WordBits = ceilnav_pkg::WordBits;
 
   // ---------------------------------------------------------------------------
   // Stage 1: frame_check; the stage configuration is latched with the SOF beat.
-  logic                 video_sof;
-  logic                 fc_valid, fc_sof, fc_eol, fc_eof, fc_abort;
-  logic [7:0]           fc_grey;
-  logic [CoordBits-1:0] fc_x, fc_y;
-  logic [6*32-1:0]      fc_errors;
-  logic                 unused_fc_tready;
+  logic                          video_sof;
+  ceilnav_pkg::pix_beat_t        fc;  // PixelBeat
+  ceilnav_pkg::frame_errors_t    fc_errors;
+  logic                          unused_fc_tready;
 
   assign video_sof = s_axis_video_tvalid_i & s_axis_video_tuser_i;
 
-  frame_check #(
-    .CoordBits  (CoordBits),
-    .CounterBits(32)
-  ) u_frame_check (
+  frame_check u_frame_check (
     .clk_i,
     .rst_ni,
     .s_axis_video_tdata_i,
@@ -116,109 +112,96 @@ module pipeline #(
     .s_axis_video_tlast_i,
     .cfg_width_i,
     .cfg_height_i,
-    .m_pix_valid_o   (fc_valid),
-    .m_pix_grey_o    (fc_grey),
-    .m_pix_x_o       (fc_x),
-    .m_pix_y_o       (fc_y),
-    .m_pix_sof_o     (fc_sof),
-    .m_pix_eol_o     (fc_eol),
-    .m_pix_eof_o     (fc_eof),
-    .m_pix_abort_o   (fc_abort),
-    .early_eol_o     (fc_errors[0*32 +: 32]),
-    .late_eol_o      (fc_errors[1*32 +: 32]),
-    .early_sof_o     (fc_errors[2*32 +: 32]),
-    .missing_sof_o   (fc_errors[3*32 +: 32]),
-    .frames_ok_o     (fc_errors[4*32 +: 32]),
-    .frames_aborted_o(fc_errors[5*32 +: 32])
+    .m_pix_valid_o   (fc.valid),
+    .m_pix_grey_o    (fc.grey),
+    .m_pix_x_o       (fc.x),
+    .m_pix_y_o       (fc.y),
+    .m_pix_sof_o     (fc.sof),
+    .m_pix_eol_o     (fc.eol),
+    .m_pix_eof_o     (fc.eof),
+    .m_pix_abort_o   (fc.abort_frame),
+    .early_eol_o     (fc_errors.early_eol),
+    .late_eol_o      (fc_errors.late_eol),
+    .early_sof_o     (fc_errors.early_sof),
+    .missing_sof_o   (fc_errors.missing_sof),
+    .frames_ok_o     (fc_errors.frames_ok),
+    .frames_aborted_o(fc_errors.frames_aborted)
   );
 
-  // StageConfig: {class window y1, y0, x1, x0, hist_source_remap, max_runs_per_row,
-  // min_run_length, background_level}
-  localparam int unsigned WinBits = CoordBits + 1;
-  localparam int unsigned CfgHistSrc = 40;  // bit of hist_source_remap
-  localparam int unsigned CfgWin = 41;      // class window x0 at [CfgWin +: WinBits], ...
-  localparam int unsigned StageCfgBits = CfgWin + 4 * WinBits;
-  logic [StageCfgBits-1:0] cfg_shadow, cfg_fc_q, cfg_lut_q;
+  // StageConfig: the configuration that travels with the SOF.
+  ceilnav_pkg::stage_cfg_t cfg_shadow, cfg_fc_q, cfg_lut_q;
   assign cfg_shadow = {cfg_class_win_y1_i, cfg_class_win_y0_i, cfg_class_win_x1_i,
                        cfg_class_win_x0_i, cfg_hist_source_remap_i, cfg_max_runs_per_row_i,
                        cfg_min_run_length_i, cfg_background_level_i};
 
   // ---------------------------------------------------------------------------
   // Stage 2: thresh_lut (bank swap on frame_check's SOF edge).
-  logic                 lut_valid, lut_sof, lut_eol, lut_eof, lut_abort, lut_mask;
-  logic [1:0]           lut_class;
-  logic [7:0]           lut_grey, lut_remap;
-  logic [CoordBits-1:0] lut_x, lut_y;
+  ceilnav_pkg::lut_beat_t lut;  // LutBeat
 
-  thresh_lut #(
-    .CoordBits(CoordBits)
-  ) u_thresh_lut (
+  thresh_lut u_thresh_lut (
     .clk_i,
     .rst_ni,
-    .s_pix_valid_i (fc_valid),
-    .s_pix_grey_i  (fc_grey),
-    .s_pix_x_i     (fc_x),
-    .s_pix_y_i     (fc_y),
-    .s_pix_sof_i   (fc_sof),
-    .s_pix_eol_i   (fc_eol),
-    .s_pix_eof_i   (fc_eof),
-    .s_pix_abort_i (fc_abort),
+    .s_pix_valid_i (fc.valid),
+    .s_pix_grey_i  (fc.grey),
+    .s_pix_x_i     (fc.x),
+    .s_pix_y_i     (fc.y),
+    .s_pix_sof_i   (fc.sof),
+    .s_pix_eol_i   (fc.eol),
+    .s_pix_eof_i   (fc.eof),
+    .s_pix_abort_i (fc.abort_frame),
     .frame_start_i (video_sof),
     .lut_wr_en_i,
     .lut_wr_index_i,
     .lut_wr_data_i,
-    .m_lut_valid_o (lut_valid),
-    .m_lut_grey_o  (lut_grey),
-    .m_lut_x_o     (lut_x),
-    .m_lut_y_o     (lut_y),
-    .m_lut_sof_o   (lut_sof),
-    .m_lut_eol_o   (lut_eol),
-    .m_lut_eof_o   (lut_eof),
-    .m_lut_abort_o (lut_abort),
-    .m_lut_remap_o (lut_remap),
-    .m_lut_mask_o  (lut_mask),
-    .m_lut_class_o (lut_class)
+    .m_lut_valid_o (lut.pix.valid),
+    .m_lut_grey_o  (lut.pix.grey),
+    .m_lut_x_o     (lut.pix.x),
+    .m_lut_y_o     (lut.pix.y),
+    .m_lut_sof_o   (lut.pix.sof),
+    .m_lut_eol_o   (lut.pix.eol),
+    .m_lut_eof_o   (lut.pix.eof),
+    .m_lut_abort_o (lut.pix.abort_frame),
+    .m_lut_remap_o (lut.lut.remap),
+    .m_lut_mask_o  (lut.lut.mask),
+    .m_lut_class_o (lut.lut.cls)
   );
 
   // Frame meta of the EOF pixel leaving frame_check (FrameMeta):
   // {cycles_in_frame, errors, frame_index}.
   // frame_index = frames_ok - 1 of the same snapshot: formed at the output.
-  localparam int unsigned MetaBits = 32 + 6 * 32;
-  logic [31:0]         frame_cycles_q;  // cycles since the SOF pixel left frame_check, saturating
-  logic [31:0]         frame_cycles;    // SOF pixel to this pixel, inclusive
-  logic [MetaBits-1:0] meta_fc, meta_lut_q;
+  ceilnav_pkg::word_t       frame_cycles_q;  // cycles since the SOF pixel left frame_check, saturating
+  ceilnav_pkg::word_t       frame_cycles;    // SOF pixel to this pixel, inclusive
+  ceilnav_pkg::frame_meta_t meta_fc, meta_lut_q;
 
-  assign frame_cycles = (fc_valid && fc_sof) ? 32'd1 : frame_cycles_q;
+  assign frame_cycles = (fc.valid && fc.sof) ? WordBits'(1) : frame_cycles_q;
   assign meta_fc = {frame_cycles, fc_errors};
 
   // ---------------------------------------------------------------------------
   // Stage 3: histogram, moment_gen, run_scanner (all sample thresh_lut's output).
-  logic [31:0] mom_overrun;
+  ceilnav_pkg::word_t mom_overrun;
   logic        mom_done, mom_done_next, mom_accept, unused_mom_busy;
   logic        mom_wr_valid;
-  logic [4:0]  mom_wr_index;
-  logic [31:0] mom_wr_data;
+  logic [ceilnav_pkg::MomIndexBits-1:0] mom_wr_index;
+  ceilnav_pkg::word_t mom_wr_data;
   logic        unused_hist_done, hist_count_ok;
 
   // A frame the histogram cannot count (no cleared bank at its SOF) is dropped
   // at its EOF by moment_gen (eof_drop_i); the histogram keeps (publishes)
   // exactly the frames moment_gen takes.
-  histogram #(
-    .CoordBits(CoordBits)
-  ) u_histogram (
+  histogram u_histogram (
     .clk_i,
     .rst_ni,
-    .s_lut_valid_i (lut_valid),
-    .s_lut_grey_i  (lut_grey),
-    .s_lut_x_i     (lut_x),
-    .s_lut_y_i     (lut_y),
-    .s_lut_sof_i   (lut_sof),
-    .s_lut_eol_i   (lut_eol),
-    .s_lut_eof_i   (lut_eof),
-    .s_lut_abort_i (lut_abort),
-    .s_lut_remap_i (lut_remap),
-    .s_lut_mask_i  (lut_mask),
-    .source_remap_i(cfg_lut_q[CfgHistSrc]),
+    .s_lut_valid_i (lut.pix.valid),
+    .s_lut_grey_i  (lut.pix.grey),
+    .s_lut_x_i     (lut.pix.x),
+    .s_lut_y_i     (lut.pix.y),
+    .s_lut_sof_i   (lut.pix.sof),
+    .s_lut_eol_i   (lut.pix.eol),
+    .s_lut_eof_i   (lut.pix.eof),
+    .s_lut_abort_i (lut.pix.abort_frame),
+    .s_lut_remap_i (lut.lut.remap),
+    .s_lut_mask_i  (lut.lut.mask),
+    .source_remap_i(cfg_lut_q.hist_source_remap),
     .count_ok_o    (hist_count_ok),
     .keep_i        (mom_accept),
     .done_o        (unused_hist_done),
@@ -230,16 +213,16 @@ module pipeline #(
   moment_gen u_moment_gen (
     .clk_i,
     .rst_ni,
-    .s_lut_valid_i  (lut_valid),
-    .s_lut_grey_i   (lut_grey),
-    .s_lut_x_i      (lut_x),
-    .s_lut_y_i      (lut_y),
-    .s_lut_sof_i    (lut_sof),
-    .s_lut_eol_i    (lut_eol),
-    .s_lut_eof_i    (lut_eof),
-    .s_lut_abort_i  (lut_abort),
-    .s_lut_remap_i  (lut_remap),
-    .s_lut_mask_i   (lut_mask),
+    .s_lut_valid_i  (lut.pix.valid),
+    .s_lut_grey_i   (lut.pix.grey),
+    .s_lut_x_i      (lut.pix.x),
+    .s_lut_y_i      (lut.pix.y),
+    .s_lut_sof_i    (lut.pix.sof),
+    .s_lut_eol_i    (lut.pix.eol),
+    .s_lut_eof_i    (lut.pix.eof),
+    .s_lut_abort_i  (lut.pix.abort_frame),
+    .s_lut_remap_i  (lut.lut.remap),
+    .s_lut_mask_i   (lut.lut.mask),
     .eof_drop_i     (~hist_count_ok),
     .done_o         (mom_done),
     .done_next_o    (mom_done_next),
@@ -251,36 +234,36 @@ module pipeline #(
     .overrun_count_o(mom_overrun)
   );
 
-  logic [31:0] rs_emitted, rs_row_limit, rs_overflow, rs_high_water;
-  logic        unused_rs_done;
+  ceilnav_pkg::run_stats_t rs;  // the frame's RunStats, final after its EOF edge
+  logic                    unused_rs_done;
 
   run_scanner #(
     .FifoDepth(RunFifoDepth)
   ) u_run_scanner (
     .clk_i,
     .rst_ni,
-    .s_lut_valid_i           (lut_valid),
-    .s_lut_grey_i            (lut_grey),
-    .s_lut_x_i               (lut_x),
-    .s_lut_y_i               (lut_y),
-    .s_lut_sof_i             (lut_sof),
-    .s_lut_eol_i             (lut_eol),
-    .s_lut_eof_i             (lut_eof),
-    .s_lut_abort_i           (lut_abort),
-    .s_lut_remap_i           (lut_remap),
-    .s_lut_mask_i            (lut_mask),
-    .cfg_background_level_i  (cfg_lut_q[7:0]),
-    .cfg_min_run_length_i    (cfg_lut_q[23:8]),
-    .cfg_max_runs_per_row_i  (cfg_lut_q[39:24]),
+    .s_lut_valid_i           (lut.pix.valid),
+    .s_lut_grey_i            (lut.pix.grey),
+    .s_lut_x_i               (lut.pix.x),
+    .s_lut_y_i               (lut.pix.y),
+    .s_lut_sof_i             (lut.pix.sof),
+    .s_lut_eol_i             (lut.pix.eol),
+    .s_lut_eof_i             (lut.pix.eof),
+    .s_lut_abort_i           (lut.pix.abort_frame),
+    .s_lut_remap_i           (lut.lut.remap),
+    .s_lut_mask_i            (lut.lut.mask),
+    .cfg_background_level_i  (cfg_lut_q.background_level),
+    .cfg_min_run_length_i    (cfg_lut_q.min_run_length),
+    .cfg_max_runs_per_row_i  (cfg_lut_q.max_runs_per_row),
     .m_axis_runs_tvalid_o,
     .m_axis_runs_tready_i,
     .m_axis_runs_tlast_o,
     .m_axis_runs_tdata_o,
     .done_o                  (unused_rs_done),
-    .runs_emitted_o          (rs_emitted),
-    .runs_dropped_row_limit_o(rs_row_limit),
-    .runs_dropped_overflow_o (rs_overflow),
-    .fifo_high_water_o       (rs_high_water),
+    .runs_emitted_o          (rs.emitted),
+    .runs_dropped_row_limit_o(rs.dropped_row_limit),
+    .runs_dropped_overflow_o (rs.dropped_overflow),
+    .fifo_high_water_o       (rs.high_water),
     .fifo_occupancy_o        (run_fifo_occupancy_o),
     .trailers_lost_o         (run_trailers_lost_o)
   );
@@ -300,21 +283,24 @@ module pipeline #(
   // first): done by accept + 2 + 24 + 12 < accept + kCombineCycles.
   localparam int unsigned MetaWords = 12;  // writes
   localparam int unsigned MetaSlots = 11;
-  localparam logic [7:0] ResMetaBase = 8'd32;
+  localparam int unsigned AddrBits = ceilnav_pkg::StoreAddrBits;
+  localparam int unsigned StepBits = 4;  // meta write step and port index, 0 .. MetaWords - 1
+  localparam logic [AddrBits-1:0] ResMetaBase = AddrBits'(32);
   // Port index (RES_FRAME_INDEX, CYCLES_PER_FRAME, RUNS_EMITTED .. RUN_FIFO_HIGH_WATER,
-  // RES_EARLY_EOL .. RES_FRAMES_ABORTED) written by step k, at [4*k +: 4].
-  localparam logic [MetaWords*4-1:0] MetaOrder = {
+  // RES_EARLY_EOL .. RES_FRAMES_ABORTED) written by step k, at [StepBits*k +: StepBits]
+  // (entries StepBits = 4 bits wide).
+  localparam logic [MetaWords*StepBits-1:0] MetaOrder = {
     4'd5, 4'd4, 4'd3, 4'd2, 4'd11, 4'd9, 4'd8, 4'd7, 4'd6, 4'd1, 4'd10, 4'd0};
   logic                     accept;       // moment_gen takes the stage-3 EOF on this edge
   logic                     runs_pend_q;  // ... it did on the last edge: stage the run stats
-  logic [MetaSlots*32-1:0]  meta_chain_q;  // slot k at [32*k +: 32]
+  logic [MetaSlots*WordBits-1:0] meta_chain_q;  // slot k at [WordBits*k +: WordBits]
   logic                     meta_pend_q;   // the chain waits for / is in its writes
-  logic [3:0]               meta_step_q;
+  logic [StepBits-1:0]      meta_step_q;
   logic                     meta_wr;
   logic                     res_valid_q, res_bank_q;
   logic                     staged_ovf_q, res_ovf_q;
 
-  assign accept  = lut_valid & lut_eof & mom_accept;
+  assign accept  = lut.pix.valid & lut.pix.eof & mom_accept;
   assign meta_wr = meta_pend_q & ~runs_pend_q & ~mom_wr_valid;
 
   always_ff @(posedge clk_i) begin
@@ -335,11 +321,12 @@ module pipeline #(
       if (video_sof) begin
         cfg_fc_q <= cfg_shadow;
       end
-      if (fc_valid && fc_sof) begin
+      if (fc.valid && fc.sof) begin
         cfg_lut_q <= cfg_fc_q;
       end
-      frame_cycles_q <= (frame_cycles == 32'hFFFF_FFFF) ? frame_cycles : frame_cycles + 32'd1;
-      if (fc_valid && fc_eof) begin
+      frame_cycles_q <= (frame_cycles == {WordBits{1'b1}}) ? frame_cycles
+                                                           : frame_cycles + WordBits'(1);
+      if (fc.valid && fc.eof) begin
         meta_lut_q <= meta_fc;
       end
       // The meta of the EOF pixel is staged on the edge moment_gen takes it;
@@ -347,20 +334,24 @@ module pipeline #(
       runs_pend_q <= accept;
       if (accept) begin
         // {aborted, missing_sof .. early_eol, cycles, frames_ok}
-        meta_chain_q[0 +: 7*32] <= {meta_lut_q[5*32 +: 32], meta_lut_q[0 +: 4*32],
-                                    meta_lut_q[MetaBits-1 -: 32], meta_lut_q[ErrFramesOk*32 +: 32]};
+        meta_chain_q[0 +: 7*WordBits] <= {meta_lut_q.errors.frames_aborted,
+                                          meta_lut_q.errors.missing_sof,
+                                          meta_lut_q.errors.early_sof,
+                                          meta_lut_q.errors.late_eol,
+                                          meta_lut_q.errors.early_eol, meta_lut_q.cycles,
+                                          meta_lut_q.errors.frames_ok};
         meta_pend_q <= 1'b1;
         meta_step_q <= '0;
       end else if (meta_wr) begin
         if (meta_step_q != 4'd0) begin
-          meta_chain_q <= {32'd0, meta_chain_q[MetaSlots*32-1:32]};
+          meta_chain_q <= {WordBits'(0), meta_chain_q[MetaSlots*WordBits-1:WordBits]};
         end
-        meta_step_q  <= meta_step_q + 4'd1;
-        meta_pend_q  <= meta_step_q != 4'(MetaWords - 1);
+        meta_step_q  <= meta_step_q + StepBits'(1);
+        meta_pend_q  <= meta_step_q != StepBits'(MetaWords - 1);
       end
       if (runs_pend_q) begin
-        meta_chain_q[7*32 +: 4*32] <= {rs_high_water, rs_overflow, rs_row_limit, rs_emitted};
-        staged_ovf_q <= rs_overflow != 32'd0;
+        meta_chain_q[7*WordBits +: 4*WordBits] <= rs;
+        staged_ovf_q <= rs.dropped_overflow != '0;
       end
       if (mom_done_next) begin
         res_bank_q  <= ~res_bank_q;
@@ -371,13 +362,14 @@ module pipeline #(
   end
 
   // The write port: moment words first, then the meta chain's head.
-  logic [3:0] meta_index;  // MetaOrder entry of meta_step_q (< MetaWords while writing)
-  assign meta_index = MetaOrder[4*meta_step_q +: 4];
+  logic [StepBits-1:0] meta_index;  // MetaOrder entry of meta_step_q (< MetaWords while writing)
+  assign meta_index = MetaOrder[StepBits*meta_step_q +: StepBits];
   assign res_wr_valid_o = mom_wr_valid | meta_wr;
-  assign res_wr_addr_o  = mom_wr_valid ? 8'(mom_wr_index)
-                                       : ResMetaBase + {3'd0, ~res_bank_q, meta_index};
+  // Meta bank b at ResMetaBase + 16 b.
+  assign res_wr_addr_o  = mom_wr_valid ? AddrBits'(mom_wr_index)
+                                       : ResMetaBase + AddrBits'({~res_bank_q, meta_index});
   assign res_wr_data_o  = mom_wr_valid ? mom_wr_data
-                        : meta_chain_q[31:0] - 32'(meta_step_q == 4'd0);
+                        : meta_chain_q[WordBits-1:0] - WordBits'(meta_step_q == '0);
 
   assign frame_done_o           = mom_done;
   assign res_valid_o            = res_valid_q;
@@ -388,9 +380,10 @@ module pipeline #(
   // res_class_q, loaded on the publication edge like the rest of the set.
   if (HasClassMoments) begin : g_class
     // The moments of the class masks 1..3 in the class window.
-    localparam int unsigned Classes = 3;
-    localparam int unsigned C00 = 2 * CoordBits + 1, C10 = 3 * CoordBits - 1;
-    localparam int unsigned C20 = 4 * CoordBits - 1, C11 = 4 * CoordBits - 2;
+    localparam int unsigned Classes = ceilnav_pkg::MaxClasses;
+    localparam int unsigned C00 = ceilnav_pkg::M00Bits, C10 = ceilnav_pkg::M10Bits;
+    localparam int unsigned C20 = ceilnav_pkg::M20Bits, C11 = ceilnav_pkg::M11Bits;
+    localparam int unsigned MomBits = ceilnav_pkg::MomentBits;
     localparam int unsigned ClassResBits = Classes * (C00 + 2 * C10 + 2 * C20 + C11);
     logic                      cls_done;
     logic [Classes*C00-1:0]    c00;
@@ -399,26 +392,25 @@ module pipeline #(
     logic [Classes*C11-1:0]    c11;
 
     class_moments #(
-      .CoordBits (CoordBits),
       .NumClasses(Classes)
     ) u_class_moments (
       .clk_i,
       .rst_ni,
-      .s_lut_valid_i (lut_valid),
-      .s_lut_grey_i  (lut_grey),
-      .s_lut_x_i     (lut_x),
-      .s_lut_y_i     (lut_y),
-      .s_lut_sof_i   (lut_sof),
-      .s_lut_eol_i   (lut_eol),
-      .s_lut_eof_i   (lut_eof),
-      .s_lut_abort_i (lut_abort),
-      .s_lut_remap_i (lut_remap),
-      .s_lut_mask_i  (lut_mask),
-      .s_lut_class_i (lut_class),
-      .win_x0_i      (cfg_lut_q[CfgWin + 0*WinBits +: WinBits]),
-      .win_x1_i      (cfg_lut_q[CfgWin + 1*WinBits +: WinBits]),
-      .win_y0_i      (cfg_lut_q[CfgWin + 2*WinBits +: WinBits]),
-      .win_y1_i      (cfg_lut_q[CfgWin + 3*WinBits +: WinBits]),
+      .s_lut_valid_i (lut.pix.valid),
+      .s_lut_grey_i  (lut.pix.grey),
+      .s_lut_x_i     (lut.pix.x),
+      .s_lut_y_i     (lut.pix.y),
+      .s_lut_sof_i   (lut.pix.sof),
+      .s_lut_eol_i   (lut.pix.eol),
+      .s_lut_eof_i   (lut.pix.eof),
+      .s_lut_abort_i (lut.pix.abort_frame),
+      .s_lut_remap_i (lut.lut.remap),
+      .s_lut_mask_i  (lut.lut.mask),
+      .s_lut_class_i (lut.lut.cls),
+      .win_x0_i      (cfg_lut_q.win_x0),
+      .win_x1_i      (cfg_lut_q.win_x1),
+      .win_y0_i      (cfg_lut_q.win_y0),
+      .win_y1_i      (cfg_lut_q.win_y1),
       .eof_keep_i    (mom_accept),
       .done_o        (cls_done),
       .m00_o         (c00),
@@ -443,12 +435,12 @@ module pipeline #(
     localparam int unsigned OffC11 = OffC20 + Classes * C20;
     localparam int unsigned OffC02 = OffC11 + Classes * C11;
     for (genvar c = 0; c < Classes; c++) begin : g_res_class
-      assign res_class_mom_o[64*(6*c+0) +: 64] = 64'(res_class_q[OffC00 + c*C00 +: C00]);
-      assign res_class_mom_o[64*(6*c+1) +: 64] = 64'(res_class_q[OffC10 + c*C10 +: C10]);
-      assign res_class_mom_o[64*(6*c+2) +: 64] = 64'(res_class_q[OffC01 + c*C10 +: C10]);
-      assign res_class_mom_o[64*(6*c+3) +: 64] = 64'(res_class_q[OffC20 + c*C20 +: C20]);
-      assign res_class_mom_o[64*(6*c+4) +: 64] = 64'(res_class_q[OffC11 + c*C11 +: C11]);
-      assign res_class_mom_o[64*(6*c+5) +: 64] = 64'(res_class_q[OffC02 + c*C20 +: C20]);
+      assign res_class_mom_o[MomBits*(6*c+0) +: MomBits] = MomBits'(res_class_q[OffC00 + c*C00 +: C00]);
+      assign res_class_mom_o[MomBits*(6*c+1) +: MomBits] = MomBits'(res_class_q[OffC10 + c*C10 +: C10]);
+      assign res_class_mom_o[MomBits*(6*c+2) +: MomBits] = MomBits'(res_class_q[OffC01 + c*C10 +: C10]);
+      assign res_class_mom_o[MomBits*(6*c+3) +: MomBits] = MomBits'(res_class_q[OffC20 + c*C20 +: C20]);
+      assign res_class_mom_o[MomBits*(6*c+4) +: MomBits] = MomBits'(res_class_q[OffC11 + c*C11 +: C11]);
+      assign res_class_mom_o[MomBits*(6*c+5) +: MomBits] = MomBits'(res_class_q[OffC02 + c*C20 +: C20]);
     end
     logic unused_cls;
     assign unused_cls = cls_done;
@@ -456,7 +448,8 @@ module pipeline #(
     assign res_class_mom_o = '0;
     // The class index and the class window are not used in this configuration.
     logic unused_cls;
-    assign unused_cls = ^{lut_class, cfg_lut_q[CfgWin +: 4*WinBits]};
+    assign unused_cls = ^{lut.lut.cls, cfg_lut_q.win_x0, cfg_lut_q.win_x1, cfg_lut_q.win_y0,
+                          cfg_lut_q.win_y1};
   end
 
   assign errors_o                     = fc_errors;

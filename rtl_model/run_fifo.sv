@@ -29,7 +29,7 @@ module run_fifo #(
   input  logic               clk_i,
   input  logic               rst_ni,
   // Writes 0 .. wr_count_i-1 (wr_count_i <= 2) go to wp, wp+1.
-  input  logic [1:0]         wr_count_i,
+  input  logic [ceilnav_pkg::FifoWrBits-1:0] wr_count_i,
   input  logic [2*Width-1:0] wr_data_i,  // write i at [i*Width +: Width]
   input  logic               late_en_i,    // this edge's write late_slot_i has a late field
   input  logic               late_slot_i,
@@ -65,7 +65,9 @@ module run_fifo #(
     logic [Width-1:0]        rdata_q;
 
     assign slot    = wp_q[0] != 1'(b);
-    assign wr_en   = 2'(slot) < wr_count_i;
+    // No write on an edge in reset (docs/rtl_style.md, "Reset"): wr_count_i
+    // and the pointers may hold anything there.
+    assign wr_en   = rst_ni && ceilnav_pkg::FifoWrBits'(slot) < wr_count_i;
     // Bank 1 row wp/2 (wp or wp+1 odd); bank 0 row (wp+1)/2.
     assign wr_row  = wp_q[AddrBits-1:1] + BankAddrBits'(b == 0 && wp_q[0]);
     assign wr_data = slot ? wr_data_i[Width +: Width] : wr_data_i[0 +: Width];
@@ -82,7 +84,7 @@ module run_fifo #(
     logic [LateWidth-1:0] late_mem_q[2**BankAddrBits];
     logic [LateWidth-1:0] late_rdata_q;
     always_ff @(posedge clk_i) begin
-      if (late_en_q && late_addr_q[0] == 1'(b)) begin
+      if (rst_ni && late_en_q && late_addr_q[0] == 1'(b)) begin
         late_mem_q[late_addr_q[AddrBits-1:1]] <= late_data_i;
       end
     end
@@ -122,7 +124,7 @@ module run_fifo #(
 `ifndef SYNTHESIS
   always_ff @(posedge clk_i) begin
     if (rst_ni) begin
-      assert (wr_count_i <= 2'd2)
+      assert (wr_count_i <= ceilnav_pkg::FifoWrBits'(2))
       else $error("run_fifo: more than two writes in one edge");
     end
   end

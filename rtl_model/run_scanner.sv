@@ -22,51 +22,52 @@ module run_scanner #(
 
   // s_lut: pixel beat from thresh_lut (LutBeat).
   input  logic                 s_lut_valid_i,
-  input  logic [7:0]           s_lut_grey_i,
-  input  logic [10:0]          s_lut_x_i,
-  input  logic [10:0]          s_lut_y_i,
+  input  ceilnav_pkg::pixel_t  s_lut_grey_i,
+  input  ceilnav_pkg::coord_t  s_lut_x_i,
+  input  ceilnav_pkg::coord_t  s_lut_y_i,
   input  logic                 s_lut_sof_i,
   input  logic                 s_lut_eol_i,
   input  logic                 s_lut_eof_i,
   input  logic                 s_lut_abort_i,
-  input  logic [7:0]           s_lut_remap_i,
+  input  ceilnav_pkg::pixel_t  s_lut_remap_i,
   input  logic                 s_lut_mask_i,
 
   // Active configuration, latched at the SOF pixel.
-  input  logic [7:0]           cfg_background_level_i,
-  input  logic [15:0]          cfg_min_run_length_i,
-  input  logic [15:0]          cfg_max_runs_per_row_i,
+  input  ceilnav_pkg::pixel_t     cfg_background_level_i,
+  input  ceilnav_pkg::run_field_t cfg_min_run_length_i,
+  input  ceilnav_pkg::run_field_t cfg_max_runs_per_row_i,
 
   output logic                 m_axis_runs_tvalid_o,
   input  logic                 m_axis_runs_tready_i,
   output logic                 m_axis_runs_tlast_o,
-  output logic [111:0]         m_axis_runs_tdata_o,
+  output logic [ceilnav_pkg::RunBeatBits-1:0] m_axis_runs_tdata_o,  // ceilnav_pkg::run_beat_t
 
   output logic                 done_o,  // one-cycle pulse: the stats were just updated
-  output logic [31:0]          runs_emitted_o,
-  output logic [31:0]          runs_dropped_row_limit_o,
-  output logic [31:0]          runs_dropped_overflow_o,
-  output logic [31:0]          fifo_high_water_o,
+  output ceilnav_pkg::word_t   runs_emitted_o,
+  output ceilnav_pkg::word_t   runs_dropped_row_limit_o,
+  output ceilnav_pkg::word_t   runs_dropped_overflow_o,
+  output ceilnav_pkg::word_t   fifo_high_water_o,
   output logic [CountBits-1:0] fifo_occupancy_o,
-  output logic [31:0]          trailers_lost_o
+  output ceilnav_pkg::word_t   trailers_lost_o
 );
 
   // Widths from fixedpoint/datapath.hpp (namespace run_scanner), generated
   // into ceilnav_widths_pkg.
-  localparam int unsigned CoordBits = ceilnav_widths_pkg::CoordBits;
-  localparam int unsigned SumWBits = ceilnav_widths_pkg::SumWBits;    // 255 W: a run plus margins is clipped to the line
-  localparam int unsigned SumXwBits = ceilnav_widths_pkg::SumXwBits;  // 255 W (W-1) / 2
+  localparam int unsigned CoordBits = ceilnav_pkg::CoordBits;
+  localparam int unsigned PixelBits = ceilnav_pkg::PixelBits;
+  localparam int unsigned WordBits = ceilnav_pkg::WordBits;
+  localparam int unsigned FieldBits = ceilnav_pkg::RunFieldBits;  // row, x_start, x_end, config
+  localparam int unsigned WrBits = ceilnav_pkg::FifoWrBits;  // writes per edge, 0 .. 3
+  localparam int unsigned SumWBits = ceilnav_pkg::SumWBits;    // 255 W: a run plus margins is clipped to the line
+  localparam int unsigned SumXwBits = ceilnav_pkg::SumXwBits;  // 255 W (W-1) / 2
   localparam int unsigned RowRunBits = ceilnav_widths_pkg::RowRunBits;  // ceil(W/2) runs per row
   localparam int unsigned RunLenBits = ceilnav_widths_pkg::RunLenBits;  // W pixels
   localparam int unsigned FrameRunBits = ceilnav_widths_pkg::FrameRunBits;  // H ceil(W/2) runs per frame
-  // FIFO entry: {impl_t, tlast, sum_w, x_end, x_start, row} and, one edge
-  // later, sum_xw. row is 16 bits (trailer: the run count); x_start holds the
-  // trailer flags. impl_t: a run followed by the constant trailer {row 1,
-  // flags 0} (see "FIFO" below).
-  localparam int unsigned EntryBits = 2 + SumWBits + 2 * CoordBits + 16;
-  localparam logic [2:0] FlagRowLimit = 3'b001;
-  localparam logic [2:0] FlagOverflow = 3'b010;
-  localparam logic [2:0] FlagAborted = 3'b100;
+  // FIFO entry (ceilnav_pkg::run_entry_t): {impl_t, tlast, sum_w, x_end,
+  // x_start, row} and, one edge later, sum_xw. row is 16 bits (trailer: the
+  // run count); x_start holds the trailer flags. impl_t: a run followed by the
+  // constant trailer {row 1, flags 0} (see "FIFO" below).
+  localparam int unsigned EntryBits = 2 + SumWBits + 2 * CoordBits + FieldBits;
   localparam logic [CountBits-1:0] Depth = CountBits'(FifoDepth);
 
   if (FifoDepth < 8 || (FifoDepth & (FifoDepth - 1)) != 0) begin : g_bad_depth
@@ -76,8 +77,8 @@ module run_scanner #(
   // ---------------------------------------------------------------------------
   // Configuration: latched at the SOF pixel, which already runs with the port
   // value. The comparisons the run logic needs against it are kept as flags.
-  logic [7:0]  cfg_bg_q, cfg_bg;
-  logic [15:0] cfg_min_len_q, cfg_max_runs_q;
+  ceilnav_pkg::pixel_t     cfg_bg_q, cfg_bg;
+  ceilnav_pkg::run_field_t cfg_min_len_q, cfg_max_runs_q;
   logic        min_le1_q, min_le2_q, max_nz_q, max_le1_q;
   logic        min_le1, min_le2, max_nz, max_le1;
   logic        sof;
@@ -86,8 +87,8 @@ module run_scanner #(
   // (Small constants: written as zero tests, which Yosys maps onto LUTs, not
   // onto a carry chain.)
   logic min_hi_zero, max_hi_zero;
-  assign min_hi_zero = cfg_min_run_length_i[15:2] == '0;
-  assign max_hi_zero = cfg_max_runs_per_row_i[15:1] == '0;
+  assign min_hi_zero = cfg_min_run_length_i[FieldBits-1:2] == '0;
+  assign max_hi_zero = cfg_max_runs_per_row_i[FieldBits-1:1] == '0;
   assign min_le1 = sof ? min_hi_zero & ~cfg_min_run_length_i[1] : min_le1_q;
   assign min_le2 = sof ? min_hi_zero & ~(&cfg_min_run_length_i[1:0]) : min_le2_q;
   assign max_nz  = sof ? ~max_hi_zero | cfg_max_runs_per_row_i[0] : max_nz_q;
@@ -97,13 +98,13 @@ module run_scanner #(
   // Row / run state.
   logic                  frame_open_q, frame_open_d, take;
   logic                  row_start_q;  // the last pixel taken was an EOL: x = 0 now
-  logic [7:0]            prev_w_q;     // w of the previous pixel on the row
+  ceilnav_pkg::pixel_t   prev_w_q;     // w of the previous pixel on the row
   logic                  in_run_q;
   logic [CoordBits-1:0]  run_start_q;
   logic [SumWBits-1:0]   run_sum_w_q;
   // sum_xw runs one pixel behind: the product of the pixel taken last is in
   // xw_q, and the run's sum_xw through that pixel is xw_base_q + xw_q.
-  logic [CoordBits+7:0]  xw_q;
+  logic [CoordBits+PixelBits-1:0] xw_q;
   logic [SumXwBits-1:0]  xw_base_q, xw_base_d, sum_xw_last;
   logic [RunLenBits-1:0] run_len_q;    // pixels of the open run so far
   logic                  len_ge_q;     // run_len_q >= min_run_length
@@ -113,34 +114,34 @@ module run_scanner #(
 
   assign take = s_lut_valid_i & (sof | frame_open_q);
 
-  logic [CoordBits-1:0] x, y;
+  ceilnav_pkg::coord_t  x, y;
   logic                 row_start, in_run, starts;
-  logic [7:0]           w, prev_w;
+  ceilnav_pkg::pixel_t  w, prev_w;
   assign x         = s_lut_x_i;  // == the position counters (asserted below)
   assign y         = s_lut_y_i;
   assign row_start = sof | row_start_q;
   assign in_run    = ~row_start & in_run_q;  // SOF/EOL leave no run open
   assign starts    = s_lut_mask_i & ~in_run;  // the previous pixel is the left margin
   // w = max(0, remap - bg): one subtraction, its borrow clamps.
-  logic [8:0] w_diff, w_diff_q;
-  logic [7:0] w_q;  // w against the latched background level
+  logic [PixelBits:0]  w_diff, w_diff_q;
+  ceilnav_pkg::pixel_t w_q;  // w against the latched background level
   assign w_diff    = {1'b0, s_lut_remap_i} - {1'b0, cfg_bg};
-  assign w         = w_diff[8] ? 8'd0 : w_diff[7:0];
+  assign w         = w_diff[PixelBits] ? '0 : w_diff[PixelBits-1:0];
   assign w_diff_q  = {1'b0, s_lut_remap_i} - {1'b0, cfg_bg_q};
-  assign w_q       = w_diff_q[8] ? 8'd0 : w_diff_q[7:0];
-  assign prev_w    = row_start ? 8'd0 : prev_w_q;  // left margin clipped at x = 0
+  assign w_q       = w_diff_q[PixelBits] ? '0 : w_diff_q[PixelBits-1:0];
+  assign prev_w    = row_start ? '0 : prev_w_q;  // left margin clipped at x = 0
 
   // Run sums including this pixel (as a run pixel or as the right margin):
   // one 11x8 multiplier, registered (xw_q); sum_xw is completed in the next
   // cycle and reaches the FIFO one edge late (run_fifo's late field). The
   // (x-1) prev_w of a run that starts is the previous pixel's product, xw_q.
-  logic [CoordBits+7:0] xw;
-  logic [CoordBits-1:0] start, run_end;
+  logic [CoordBits+PixelBits-1:0] xw;
+  ceilnav_pkg::coord_t  start, run_end;
   logic [SumWBits-1:0]  sum_w;
   logic                 end_run, long_enough;
   // x = 0 on the SOF pixel, the only one that uses the port's background
   // level: the product can take w_q, off the SOF multiplexer.
-  assign xw      = (CoordBits + 8)'(x) * (CoordBits + 8)'(w_q);
+  assign xw      = (CoordBits + PixelBits)'(x) * (CoordBits + PixelBits)'(w_q);
   assign start   = starts ? x : run_start_q;
   assign sum_w   = (starts ? SumWBits'(prev_w) : run_sum_w_q) + SumWBits'(w);
   assign sum_xw_last = xw_base_q + SumXwBits'(xw_q);
@@ -160,8 +161,8 @@ module run_scanner #(
   logic [RunLenBits-1:0] run_len_inc;
   logic                  len2_ge_min, row_inc_full;
   assign run_len_inc  = run_len_q + RunLenBits'(1);
-  assign len2_ge_min  = 16'(run_len_q) + 16'd2 >= cfg_min_len_q;
-  assign row_inc_full = 16'(row_runs_q) + 16'd1 >= cfg_max_runs_q;
+  assign len2_ge_min  = FieldBits'(run_len_q) + FieldBits'(2) >= cfg_min_len_q;
+  assign row_inc_full = FieldBits'(row_runs_q) + FieldBits'(1) >= cfg_max_runs_q;
 
   // ---------------------------------------------------------------------------
   // Admission and frame counters. Writes per edge: aborted-frame trailer (A),
@@ -196,7 +197,7 @@ module run_scanner #(
   logic                    limit_nz_q, ovf_nz_q, limit_nz_d, ovf_nz_d;  // counter != 0
   logic                    sticky_q, sticky_a, sticky_d;
   logic [CountBits-1:0]    high_water_q, high_water_d;
-  logic [31:0]             trailers_lost_q, trailers_lost_d;
+  ceilnav_pkg::word_t      trailers_lost_q, trailers_lost_d;
 
   assign emitted_base = sof_take ? '0 : emitted_q;
   assign emitted_d    = emitted_base + FrameRunBits'(r_en);
@@ -207,39 +208,44 @@ module run_scanner #(
   assign sticky_a     = a_req ? ~a_en : sticky_q;
   assign sticky_d     = t_req ? ~t_en : sticky_a;
 
-  // Trailer rows: runs emitted, saturated to 16 bits.
-  function automatic logic [15:0] sat16(logic [FrameRunBits-1:0] v);
-    sat16 = v > FrameRunBits'(16'hFFFF) ? 16'hFFFF : v[15:0];
+  // Trailer rows: runs emitted, saturated to the 16-bit row field.
+  localparam ceilnav_pkg::run_field_t RowMax = {FieldBits{1'b1}};
+  function automatic ceilnav_pkg::run_field_t sat_row(logic [FrameRunBits-1:0] v);
+    sat_row = v > FrameRunBits'(RowMax) ? RowMax : v[FieldBits-1:0];
   endfunction
-  logic [15:0] a_row, t_row;
-  logic [2:0]  a_flags, t_flags;
+  ceilnav_pkg::run_field_t a_row, t_row;
+  ceilnav_pkg::run_flags_t a_flags, t_flags;
   // Both candidates from the register, the SOF and run choices last.
-  logic [15:0] row_inc;
-  assign a_row   = sat16(emitted_q);
-  assign row_inc = sat16(emitted_q + FrameRunBits'(1));
-  assign t_row   = sof_take ? 16'(r_en) : r_en ? row_inc : a_row;
-  assign a_flags = FlagAborted | (limit_nz_q ? FlagRowLimit : 3'b0) |
-                   (ovf_nz_q | sticky_q ? FlagOverflow : 3'b0);
-  assign t_flags = (limit_nz_d ? FlagRowLimit : 3'b0) | (ovf_nz_d | sticky_a ? FlagOverflow : 3'b0);
+  ceilnav_pkg::run_field_t row_inc;
+  assign a_row   = sat_row(emitted_q);
+  assign row_inc = sat_row(emitted_q + FrameRunBits'(1));
+  assign t_row   = sof_take ? FieldBits'(r_en) : r_en ? row_inc : a_row;
+  assign a_flags.aborted   = 1'b1;
+  assign a_flags.overflow  = ovf_nz_q | sticky_q;
+  assign a_flags.row_limit = limit_nz_q;
+  assign t_flags.aborted   = 1'b0;
+  assign t_flags.overflow  = ovf_nz_d | sticky_a;
+  assign t_flags.row_limit = limit_nz_d;
 
   // Saturating trailers_lost += lost (0..2). lost comes late: it is added to
   // the two low bits only, and their carry selects the upper 30 bits + 1,
   // which is computed from the register alone.
   logic        a_lost, t_lost;
-  logic [1:0]  lost;
-  logic [2:0]  lost_lo;
-  logic [29:0] lost_hi_inc;
-  logic        lost_hi_full;
+  localparam int unsigned LoBits = 2;  // the low bits that take lost
+  logic [LoBits-1:0]          lost;
+  logic [LoBits:0]            lost_lo;
+  logic [WordBits-1:LoBits]   lost_hi_inc;
+  logic                       lost_hi_full;
   assign a_lost       = a_req & ~a_en;
   assign t_lost       = t_req & ~t_en;
-  assign lost         = 2'(a_lost) + 2'(t_lost);
-  assign lost_lo      = {1'b0, trailers_lost_q[1:0]} + {1'b0, lost};
-  assign lost_hi_inc  = trailers_lost_q[31:2] + 30'd1;
-  assign lost_hi_full = &trailers_lost_q[31:2];
+  assign lost         = LoBits'(a_lost) + LoBits'(t_lost);
+  assign lost_lo      = {1'b0, trailers_lost_q[LoBits-1:0]} + {1'b0, lost};
+  assign lost_hi_inc  = trailers_lost_q[WordBits-1:LoBits] + (WordBits - LoBits)'(1);
+  assign lost_hi_full = &trailers_lost_q[WordBits-1:LoBits];
   always_comb begin
-    trailers_lost_d = {trailers_lost_q[31:2], lost_lo[1:0]};
-    if (lost_lo[2]) begin
-      trailers_lost_d = lost_hi_full ? 32'hFFFF_FFFF : {lost_hi_inc, lost_lo[1:0]};
+    trailers_lost_d = {trailers_lost_q[WordBits-1:LoBits], lost_lo[LoBits-1:0]};
+    if (lost_lo[LoBits]) begin
+      trailers_lost_d = lost_hi_full ? {WordBits{1'b1}} : {lost_hi_inc, lost_lo[LoBits-1:0]};
     end
   end
 
@@ -251,25 +257,26 @@ module run_scanner #(
   // flag). That T is not stored: R carries impl_t and the output produces
   // the trailer after it. So at most two entries per edge: run_fifo's two
   // banks. The occupancy count_q counts beats (impl_t counts one).
-  logic [EntryBits-1:0] a_entry, r_entry, t_entry, slot0, slot1;
-  logic [1:0]           wr_count;
-  logic [1:0]           n_writes;
-  logic                 three;
+  ceilnav_pkg::run_entry_t a_entry, r_entry, t_entry, slot0, slot1;
+  logic [WrBits-1:0]       wr_count;
+  logic [WrBits-1:0]       n_writes;
+  logic                    three;
   assign three = a_en & r_en & t_en;
   // The trailers' don't-care fields repeat the run's, so that Yosys folds the
   // bank write muxes of those bits; the output zeroes them (tlast).
-  assign r_entry = {three, 1'b0, sum_w, run_end, start, 5'd0, y};
-  assign a_entry = {2'b01, sum_w, run_end, 8'd0, a_flags, a_row};
-  assign t_entry = {2'b01, sum_w, run_end, 8'd0, t_flags, t_row};
+  // (Concatenations in field order: Yosys 0.23 reads no assignment patterns.)
+  assign r_entry = {three, 1'b0, sum_w, run_end, start, FieldBits'(y)};
+  assign a_entry = {2'b01, sum_w, run_end, CoordBits'(a_flags), a_row};
+  assign t_entry = {2'b01, sum_w, run_end, CoordBits'(t_flags), t_row};
   assign slot0 = a_en ? a_entry : r_en ? r_entry : t_entry;
   assign slot1 = a_en & r_en ? r_entry : t_entry;
-  assign n_writes = 2'(a_en) + 2'(r_en) + 2'(t_en);
-  assign wr_count = n_writes - 2'(three);
+  assign n_writes = WrBits'(a_en) + WrBits'(r_en) + WrBits'(t_en);
+  assign wr_count = n_writes - WrBits'(three);
 
   // Output: the read register of run_fifo is m_axis's data register; syn_q
   // marks the synthetic trailer after an impl_t run.
   logic                 out_valid_q, syn_q, out_load, pop, rd, syn_next;
-  logic [EntryBits-1:0] head;
+  ceilnav_pkg::run_entry_t head;
   logic [SumXwBits-1:0] head_sum_xw;
   logic                 head_impl, head_last;
   assign out_load = ~out_valid_q | m_axis_runs_tready_i;
@@ -333,9 +340,9 @@ module run_scanner #(
 
   always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
-      cfg_bg_q <= 8'd0;  // RunScanConfig{} (unused until an SOF latches the port)
-      cfg_min_len_q <= 16'd1;
-      cfg_max_runs_q <= 16'd8;
+      cfg_bg_q <= '0;  // RunScanConfig{} (unused until an SOF latches the port)
+      cfg_min_len_q <= FieldBits'(1);
+      cfg_max_runs_q <= FieldBits'(8);
       min_le1_q <= 1'b1;
       min_le2_q <= 1'b1;
       max_nz_q <= 1'b1;
@@ -421,11 +428,16 @@ module run_scanner #(
 
   // ---------------------------------------------------------------------------
   // Outputs. The entry fields a trailer does not use read as 0.
-  logic                 head_ok, head_run;
-  logic [SumWBits-1:0]  head_sum_w;
-  logic [CoordBits-1:0] head_x_end, head_x_start;
-  logic [15:0]          head_row;
-  assign {head_impl, head_last, head_sum_w, head_x_end, head_x_start, head_row} = head;
+  logic                    head_ok, head_run;
+  logic [SumWBits-1:0]     head_sum_w;
+  ceilnav_pkg::coord_t     head_x_end, head_x_start;
+  ceilnav_pkg::run_field_t head_row;
+  assign head_impl    = head.impl_t;
+  assign head_last    = head.last;
+  assign head_sum_w   = head.sum_w;
+  assign head_x_end   = head.x_end;
+  assign head_x_start = head.x_start;
+  assign head_row     = head.row;
   assign head_ok  = out_valid_q & ~syn_q;  // the beat is the entry read from run_fifo
   assign head_run = head_ok & ~head_last;
 
@@ -433,22 +445,27 @@ module run_scanner #(
   assign m_axis_runs_tlast_o  = out_valid_q & (syn_q | head_last);
   logic [SumXwBits-1:0] out_sum_xw;
   logic [SumWBits-1:0]  out_sum_w;
-  logic [CoordBits-1:0] out_x_end, out_x_start;
-  logic [15:0]          out_row;
+  ceilnav_pkg::coord_t  out_x_end, out_x_start;
+  ceilnav_pkg::run_field_t out_row;
   logic                 out_syn;
+  ceilnav_pkg::run_beat_t out_beat;
   assign out_sum_xw  = head_sum_xw & {SumXwBits{head_run}};
   assign out_sum_w   = head_sum_w & {SumWBits{head_run}};
   assign out_x_end   = head_x_end & {CoordBits{head_run}};
   assign out_x_start = head_x_start & {CoordBits{head_ok}};
   assign out_syn     = out_valid_q & syn_q;
-  assign out_row     = (head_row & {16{head_ok}}) | 16'(out_syn);
-  assign m_axis_runs_tdata_o  = {16'(out_x_end), 32'(out_sum_xw), 32'(out_sum_w), 16'(out_x_start),
-                                 out_row};
+  assign out_row     = (head_row & {FieldBits{head_ok}}) | FieldBits'(out_syn);
+  assign out_beat.x_end   = FieldBits'(out_x_end);
+  assign out_beat.sum_xw  = WordBits'(out_sum_xw);
+  assign out_beat.sum_w   = WordBits'(out_sum_w);
+  assign out_beat.x_start = FieldBits'(out_x_start);
+  assign out_beat.row     = out_row;
+  assign m_axis_runs_tdata_o = out_beat;
   assign done_o                   = done_q;
-  assign runs_emitted_o           = 32'(stat_emitted_q);
-  assign runs_dropped_row_limit_o = 32'(stat_drop_limit_q);
-  assign runs_dropped_overflow_o  = 32'(stat_drop_ovf_q);
-  assign fifo_high_water_o        = 32'(stat_high_water_q);
+  assign runs_emitted_o           = WordBits'(stat_emitted_q);
+  assign runs_dropped_row_limit_o = WordBits'(stat_drop_limit_q);
+  assign runs_dropped_overflow_o  = WordBits'(stat_drop_ovf_q);
+  assign fifo_high_water_o        = WordBits'(stat_high_water_q);
   assign fifo_occupancy_o         = count_q;
   assign trailers_lost_o          = trailers_lost_q;
 
@@ -458,9 +475,9 @@ module run_scanner #(
 
 `ifndef SYNTHESIS
   // Position counters, for the assertion only: the RTL uses pix.x/pix.y.
-  logic [CoordBits-1:0] x_q, y_q;
-  logic [CoordBits-1:0] x_cnt, y_cnt;
-  logic [111:0]         tdata_q;
+  ceilnav_pkg::coord_t  x_q, y_q;
+  ceilnav_pkg::coord_t  x_cnt, y_cnt;
+  ceilnav_pkg::run_beat_t tdata_q;
   logic                 tlast_q, stalled_q;
   assign x_cnt = sof ? '0 : x_q;
   assign y_cnt = sof ? '0 : y_q;
@@ -494,7 +511,7 @@ module run_scanner #(
       else $error("run_scanner: abort on a pixel that is not an SOF");
       // Three writes only with the constant trailer (see "FIFO" above).
       if (a_en && r_en && t_en) begin
-        assert (t_row == 16'd1 && t_flags == 3'b000)
+        assert (t_row == FieldBits'(1) && t_flags == '0)
         else $error("run_scanner: three writes with a non-constant trailer");
       end
       assert ({1'b0, count_q} + (CountBits + 1)'(n_writes) <= (CountBits + 1)'(Depth))
