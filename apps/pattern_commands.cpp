@@ -122,11 +122,6 @@ FixRow make_fix(const PatternFrameAnalysis& a, const gp::PatternDatabase& db,
   const hp::PatternPose& p = a.conic_bars;  // the conic pose refined with the bar centres
   const bool pose_ok =
       p.status == hp::PatternStatus::ok || p.status == hp::PatternStatus::ambiguous;
-  if (pose_ok) {
-    r.d = p.d_m;
-    r.theta = p.theta_rad / kDeg;
-    if (p.beta_resolved) r.beta = p.beta_rad / kDeg;
-  }
   if (p.status == hp::PatternStatus::no_pattern && a.code.status == hp::PatternStatus::no_pattern) {
     r.status = "no_pattern";
   } else if (a.code.status == hp::PatternStatus::unreadable) {
@@ -138,7 +133,12 @@ FixRow make_fix(const PatternFrameAnalysis& a, const gp::PatternDatabase& db,
   } else if (p.status == hp::PatternStatus::ambiguous) {
     r.status = "ambiguous";
   } else {
+    // Only an ok row carries a pose (docs/pattern.md, "Fix CSV"): every other
+    // status leaves D, theta, beta, x, y and heading empty.
     r.status = "ok";
+    r.d = p.d_m;
+    r.theta = p.theta_rad / kDeg;
+    if (p.beta_resolved) r.beta = p.beta_rad / kDeg;
     const gp::PatternPlacement& pl = *db.find(a.code.identity);
     // The world's up as the bars measured it when they refined the pose.
     const hp::WorldFix w =
@@ -195,7 +195,10 @@ int run_pattern_frames(const PatternOptions& o) {
   if (o.scene_file.empty() || o.database.empty()) {
     throw std::runtime_error("pattern --frames needs --scene and --database");
   }
-  const host::CameraConfig camera = host::load_camera_config(o.scene_file);
+  // Only the lens keys are needed; the scene keys (pitch, heights, tape width)
+  // may be absent.
+  const host::CameraConfig camera =
+      host::load_camera_config(o.scene_file, host::ConfigKeys::camera_only);
   const gp::PatternDatabase db = gp::load_pattern_database(o.database);
   const std::vector<fs::path> frames = host::list_png_frames(o.frames_dir);
   make_dir(o.out_dir);
@@ -205,8 +208,7 @@ int run_pattern_frames(const PatternOptions& o) {
   hp::PoseOptions po = pose_options_for(db.geometry);
   // The camera is taken as level with no swing (up = -y) for the start of
   // the pose; where the code is read the bars measure the actual up (tilt and
-  // swing) and the fix uses that. The scene's ceiling keys (camera_pitch_deg,
-  // heights, tape width) are not used here.
+  // swing) and the fix uses that.
   po.up_cam = Eigen::Vector3d(0.0, -1.0, 0.0);
   std::vector<FixRow> rows;
   cv::Mat last_overlay;

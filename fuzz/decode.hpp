@@ -1,6 +1,7 @@
 // Decoders shared by the host-maths fuzz targets (fuzz_tape_pose,
 // fuzz_pattern): a camera configuration inside the ranges
-// validate_camera_config accepts, and a run list (layout: docs/fuzzing.md).
+// validate_camera_config accepts (except that its lens may fold), and a run
+// list (layout: docs/fuzzing.md).
 #pragma once
 
 #include <algorithm>
@@ -11,6 +12,8 @@
 #include "common/camera_config.hpp"
 #include "common/run_record.hpp"
 #include "fuzz/byte_reader.hpp"
+#include "fuzz/check.hpp"
+#include "host/camera_config_io.hpp"
 
 namespace ceilnav::fuzz {
 
@@ -40,6 +43,21 @@ inline ceilnav::host::CameraConfig decode_config(ByteReader& in) {
                                    scale * in.s8() / 128.0};
   }
   return cfg;
+}
+
+// decode_config's contract: every field inside validate_camera_config's
+// ranges, except that the lens may be one whose distortion is not invertible
+// over the image (distortion_fold; the loader refuses such a file, but the
+// pose maths must still survive a CameraModel built from one). Checked with
+// the distortion of a folded lens set to zero.
+inline void check_decoded_config(const ceilnav::host::CameraConfig& cfg) {
+  ceilnav::host::CameraConfig ranges = cfg;
+  if (ceilnav::host::distortion_fold(cfg)) ranges.distortion_coefficients = {};
+  try {
+    ceilnav::host::validate_camera_config(ranges, "fuzz");
+  } catch (const ceilnav::host::ConfigError& e) {
+    FUZZ_CHECK(false, "decode_config made an invalid config: %s", e.what());
+  }
 }
 
 // Runs until the input ends (at most kMaxRuns), 10 bytes each.

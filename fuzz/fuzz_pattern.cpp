@@ -104,11 +104,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace ceilnav;
   ByteReader in(data, size);
   const host::CameraConfig cfg = ceilnav::fuzz::decode_config(in);
-  try {
-    host::validate_camera_config(cfg, "fuzz");
-  } catch (const host::ConfigError& e) {
-    FUZZ_CHECK(false, "decode_config made an invalid config: %s", e.what());
-  }
+  ceilnav::fuzz::check_decoded_config(cfg);
   // Options: the coverage model (k 1..256, contrast 1..256 grey, dead zone
   // 0..0.25, noise 0..8 grey, blur 0..1.5 px on pixels or as a PSF) and the
   // camera's up (default when zero).

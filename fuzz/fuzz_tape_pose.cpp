@@ -139,11 +139,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace ceilnav;
   ByteReader in(data, size);
   const host::CameraConfig cfg = decode_config(in);
-  try {
-    host::validate_camera_config(cfg, "fuzz");
-  } catch (const host::ConfigError& e) {
-    FUZZ_CHECK(false, "decode_config made an invalid config: %s", e.what());
-  }
+  ceilnav::fuzz::check_decoded_config(cfg);
   const host::TapePoseOptions opt = decode_options(in);
   const std::vector<stream::RunRecord> runs = decode_runs(in);
   const host::CameraModel cam(cfg);

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <variant>
@@ -24,6 +25,12 @@ namespace {
 constexpr int kMaxImageSide = 2048;
 constexpr int kMaxMatrixSide = 16;  // camera_matrix 3x3, distortion_coefficients up to 1x14
 constexpr std::uintmax_t kMaxFileBytes = 1u << 20;
+// distortion_fold: the radial map is sampled every 1/1024 of the corner's
+// distorted radius out to 64 times it; the Jacobian on 64 radii x 128 angles.
+constexpr int kRadialSteps = 1024;
+constexpr int kMaxRadiusRatio = 64;
+constexpr int kDiscRadii = 64;
+constexpr int kDiscAngles = 128;
 
 [[noreturn]] void fail(const std::string& source, const std::string& key, const std::string& what) {
   std::ostringstream msg;
@@ -247,7 +254,88 @@ void screen_text(std::ifstream& in, const std::string& source) {
   }
 }
 
+std::string fixed3(double v) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(3);
+  s << v;
+  return s.str();
+}
+
 }  // namespace
+
+std::optional<std::string> distortion_fold(const CameraConfig& cfg) {
+  if (!cfg.has_distortion()) return std::nullopt;
+  const auto& d = cfg.distortion_coefficients;
+  const double k1 = d[0], k2 = d[1], p1 = d[2], p2 = d[3], k3 = d[4];
+  // Distorted normalised radius of the farthest corner of the sensor.
+  double corner = 0.0;
+  for (const double u : {-0.5, cfg.image_width - 0.5}) {
+    for (const double v : {-0.5, cfg.image_height - 0.5}) {
+      corner = std::max(corner, std::hypot((u - cfg.cx()) / cfg.fx(), (v - cfg.cy()) / cfg.fy()));
+    }
+  }
+  const auto radial = [&](double r) {
+    const double s = r * r;
+    return r * (1.0 + s * (k1 + s * (k2 + s * k3)));
+  };
+  const auto slope = [&](double r) {  // d r_d / d r
+    const double s = r * r;
+    return 1.0 + s * (3.0 * k1 + s * (5.0 * k2 + s * 7.0 * k3));
+  };
+  // The last point of [lo, hi] where `inside` holds (it holds at lo, not at hi).
+  const auto bisect = [](double lo, double hi, const auto& inside) {
+    for (int it = 0; it < 60; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (inside(mid) ? lo : hi) = mid;
+    }
+    return lo;
+  };
+  const std::string corner_text = "inside the image corner r_d = " + fixed3(corner);
+  // Walk out from the centre until r_d reaches the corner (then bisect for
+  // the radius r_max that maps onto it) or the slope stops being positive
+  // (then bisect for the turning point).
+  const double h = corner / kRadialSteps;
+  double r = 0.0, r_max = -1.0;
+  for (int i = 1; i <= kRadialSteps * kMaxRadiusRatio && r_max < 0.0; ++i) {
+    const double next = h * i;
+    if (radial(next) >= corner) {
+      r_max = bisect(r, next, [&](double x) { return radial(x) < corner; });
+    } else if (!(slope(next) > 0.0)) {
+      const double turn = bisect(r, next, [&](double x) { return slope(x) > 0.0; });
+      return "the radial map r_d = r (1 + k1 r^2 + k2 r^4 + k3 r^6) turns back at r = " +
+             fixed3(turn) + " (r_d = " + fixed3(radial(turn)) + "), " + corner_text;
+    } else {
+      r = next;
+    }
+  }
+  if (r_max < 0.0) {
+    return "the radial map r_d = r (1 + k1 r^2 + k2 r^4 + k3 r^6) reaches only r_d = " +
+           fixed3(radial(r)) + " by r = " + fixed3(r) +
+           ", short of the image corner r_d = " + fixed3(corner);
+  }
+  // The whole map, tangential terms included: its Jacobian determinant
+  // (the formulas of CameraModel::normalise's Newton step) must stay > 0.
+  for (int i = 1; i <= kDiscRadii; ++i) {
+    for (int j = 0; j < kDiscAngles; ++j) {
+      const double rr = r_max * i / kDiscRadii;
+      const double a = 2.0 * std::numbers::pi * j / kDiscAngles;
+      const double x = rr * std::cos(a), y = rr * std::sin(a), s = rr * rr;
+      const double g = 1.0 + s * (k1 + s * (k2 + s * k3));
+      const double gp = k1 + s * (2.0 * k2 + 3.0 * s * k3);
+      const double j11 = g + 2.0 * x * x * gp + 2.0 * p1 * y + 6.0 * p2 * x;
+      const double j12 = 2.0 * x * y * gp + 2.0 * p1 * x + 2.0 * p2 * y;
+      const double j22 = g + 2.0 * y * y * gp + 6.0 * p1 * y + 2.0 * p2 * x;
+      const double det = j11 * j22 - j12 * j12;
+      if (!(det > 0.0)) {
+        return "the distortion map folds (Jacobian determinant " + fixed3(det) + ") at (x, y) = (" +
+               fixed3(x) + ", " + fixed3(y) + "), " + corner_text +
+               " (the tangential terms p1, p2 are too large for this lens)";
+      }
+    }
+  }
+  return std::nullopt;
+}
 
 void validate_camera_config(const CameraConfig& cfg, const std::string& source) {
   if (cfg.image_width < 1 || cfg.image_width > kMaxImageSide) {
@@ -273,6 +361,9 @@ void validate_camera_config(const CameraConfig& cfg, const std::string& source) 
   for (double v : cfg.distortion_coefficients) {
     if (!std::isfinite(v)) fail(source, "distortion_coefficients", "has a non-finite element");
   }
+  if (const auto why = distortion_fold(cfg)) {
+    fail(source, "distortion_coefficients", "not invertible over the image: " + *why);
+  }
   if (!std::isfinite(cfg.camera_pitch_deg) || !(cfg.camera_pitch_deg > 0.0) ||
       cfg.camera_pitch_deg > 90.0) {
     fail(source, "camera_pitch_deg", "must be in (0, 90]");
@@ -289,7 +380,8 @@ void validate_camera_config(const CameraConfig& cfg, const std::string& source) 
 namespace {
 
 // Parses and checks the file's text.
-CameraConfig parse_camera_config(const std::string& path, const std::string& text) {
+CameraConfig parse_camera_config(const std::string& path, const std::string& text,
+                                 ConfigKeys keys) {
   const size_t first = text.find_first_not_of(" \t\r\n");
   const Document doc = (first != std::string::npos && text[first] == '<') ? read_xml(path, text)
                                                                           : read_yaml(path, text);
@@ -322,17 +414,21 @@ CameraConfig parse_camera_config(const std::string& path, const std::string& tex
     cfg.distortion_coefficients[static_cast<size_t>(i)] = d.data[static_cast<size_t>(i)];
   }
 
-  cfg.camera_pitch_deg = read_real(doc, path, "camera_pitch_deg");
-  cfg.camera_height_m = read_real(doc, path, "camera_height_m");
-  cfg.ceiling_height_m = read_real(doc, path, "ceiling_height_m");
-  cfg.tape_width_m = read_real(doc, path, "tape_width_m");
+  // The scene keys; with ConfigKeys::camera_only an absent one keeps its default.
+  const auto scene_key = [&](const char* key, double& field) {
+    if (keys == ConfigKeys::scene || doc.count(key) != 0) field = read_real(doc, path, key);
+  };
+  scene_key("camera_pitch_deg", cfg.camera_pitch_deg);
+  scene_key("camera_height_m", cfg.camera_height_m);
+  scene_key("ceiling_height_m", cfg.ceiling_height_m);
+  scene_key("tape_width_m", cfg.tape_width_m);
   validate_camera_config(cfg, path);
   return cfg;
 }
 
 }  // namespace
 
-CameraConfig load_camera_config(const std::string& path) {
+CameraConfig load_camera_config(const std::string& path, ConfigKeys keys) {
   {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) fail(path, "", "no such file");
@@ -344,7 +440,7 @@ CameraConfig load_camera_config(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (!in.good() && !in.eof()) fail(path, "", "cannot be read");
-  return parse_camera_config(path, text);
+  return parse_camera_config(path, text, keys);
 }
 
 void save_camera_config(const CameraConfig& cfg, const std::string& path) {

@@ -467,8 +467,20 @@ PatternDatabase load_pattern_database(const std::string& path) {
     }
   }
   const cv::FileNode list = fs["patterns"];
-  if (list.empty() || !list.isSeq() || list.size() == 0) {
-    throw std::runtime_error("pattern database " + path + ": missing key patterns (a sequence)");
+  if (list.isNone()) {
+    throw std::runtime_error("pattern database " + path +
+                             ": missing key patterns (a sequence of {identity, x_m, y_m, z_m, "
+                             "facing_deg})");
+  }
+  if (!list.isSeq()) {
+    throw std::runtime_error("pattern database " + path +
+                             ": key patterns is not a sequence of {identity, x_m, y_m, z_m, "
+                             "facing_deg}");
+  }
+  if (list.size() == 0) {
+    throw std::runtime_error("pattern database " + path +
+                             ": has no patterns (key patterns is an empty sequence); list at "
+                             "least one {identity, x_m, y_m, z_m, facing_deg}");
   }
   for (const cv::FileNode& n : list) {
     if (!n.isMap()) throw std::runtime_error("pattern database " + path + ": entry not a map");

@@ -179,7 +179,8 @@ struct PatternDatabase {
   std::vector<PatternPlacement> patterns;
   const PatternPlacement* find(int identity) const;
 };
-// OpenCV FileStorage YAML; throws std::runtime_error naming file and key.
+// OpenCV FileStorage YAML; throws std::runtime_error naming file and key,
+// also for a database without patterns (an empty `patterns` sequence).
 PatternDatabase load_pattern_database(const std::string& path);
 // Written to a temporary file and renamed.
 void save_pattern_database(const std::string& path, const PatternDatabase& db);

@@ -128,13 +128,16 @@ TEST_F(ConfigIoTest, RoundTripIsExact) {
 TEST_F(ConfigIoTest, AcceptsColumnAndFourCoefficientDistortion) {
   auto keys = valid_keys();
   keys["distortion_coefficients"] =
-      "!!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n   data: [ 0.1, 0.2, 0.3, 0.4, 0.5 ]";
+      "!!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n   data: [ -0.1, 0.02, 0.003, 0.004, "
+      "0.05 ]";
   CameraConfig c = load_camera_config(write("col.yaml", yaml(keys)));
-  EXPECT_EQ(c.distortion_coefficients, (std::array<double, 5>{0.1, 0.2, 0.3, 0.4, 0.5}));
+  EXPECT_EQ(c.distortion_coefficients, (std::array<double, 5>{-0.1, 0.02, 0.003, 0.004, 0.05}));
   keys["distortion_coefficients"] =
-      "!!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: f\n   data: [ 0.5, 0.25, 0.125, 0.0625 ]";
+      "!!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: f\n   data: [ -0.125, 0.0625, 0.0009765625, "
+      "-0.001953125 ]";
   c = load_camera_config(write("four.yaml", yaml(keys)));
-  EXPECT_EQ(c.distortion_coefficients, (std::array<double, 5>{0.5, 0.25, 0.125, 0.0625, 0.0}));
+  EXPECT_EQ(c.distortion_coefficients,
+            (std::array<double, 5>{-0.125, 0.0625, 0.0009765625, -0.001953125, 0.0}));
   keys["distortion_coefficients"] =
       "!!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0., 0., 0., 0., 0. ]";
   c = load_camera_config(write("zero.yaml", yaml(keys)));
@@ -144,10 +147,11 @@ TEST_F(ConfigIoTest, AcceptsColumnAndFourCoefficientDistortion) {
 TEST_F(ConfigIoTest, EightCoefficientsOnlyWithTheExtraTermsZero) {
   auto keys = valid_keys();
   keys["distortion_coefficients"] =
-      "!!opencv-matrix\n   rows: 1\n   cols: 8\n   dt: d\n   data: [ 0.1, 0.2, 0.3, 0.4, 0.5, "
+      "!!opencv-matrix\n   rows: 1\n   cols: 8\n   dt: d\n   data: [ -0.1, 0.02, 0.003, 0.004, "
+      "0.05, "
       "0., 0., 0. ]";
   const CameraConfig c = load_camera_config(write("eight.yaml", yaml(keys)));
-  EXPECT_EQ(c.distortion_coefficients, (std::array<double, 5>{0.1, 0.2, 0.3, 0.4, 0.5}));
+  EXPECT_EQ(c.distortion_coefficients, (std::array<double, 5>{-0.1, 0.02, 0.003, 0.004, 0.05}));
   keys["distortion_coefficients"] =
       "!!opencv-matrix\n   rows: 1\n   cols: 8\n   dt: d\n   data: [ 0.1, 0.2, 0.3, 0.4, 0.5, "
       "0.01, 0., 0. ]";
@@ -258,6 +262,130 @@ TEST_F(ConfigIoTest, SaveRejectsBadConfigAndUnwritablePath) {
   EXPECT_FALSE(fs::exists(p));
   const std::string q = (dir_ / "no_such_dir" / "x.yaml").string();
   expect_config_error([&] { save_camera_config(CameraConfig{}, q); }, {q});
+}
+
+// A 640x480 sensor with its principal point at the centre and focal length f.
+CameraConfig lens(double f, std::array<double, 5> k) {
+  CameraConfig c;
+  c.camera_matrix = {f, 0.0, 319.5, 0.0, f, 239.5, 0.0, 0.0, 1.0};
+  c.distortion_coefficients = k;
+  return c;
+}
+
+std::string matrix_yaml(const std::array<double, 5>& k) {
+  std::string s = "!!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ ";
+  for (size_t i = 0; i < k.size(); ++i) s += (i ? ", " : "") + std::to_string(k[i]);
+  return s + " ]";
+}
+
+TEST_F(ConfigIoTest, InvertibleLensesPass) {
+  // A wide-angle lens (about 95 deg across at f = 400 px): its radial map
+  // rises past the corner's r_d = 1.0 before it turns back (r = 1.82).
+  const std::array<double, 5> wide{-0.28, 0.09, 0.0012, -0.0008, -0.012};
+  EXPECT_FALSE(distortion_fold(lens(400.0, wide)).has_value());
+  EXPECT_NO_THROW(validate_camera_config(lens(400.0, wide), "wide"));
+  // The same lens, narrower sensor view, and the project's cameras.
+  EXPECT_FALSE(distortion_fold(lens(520.0, wide)).has_value());
+  EXPECT_FALSE(distortion_fold(lens(500.0, {-0.25, 0.08, 8e-4, -6e-4, -0.01})).has_value());
+  EXPECT_FALSE(distortion_fold(lens(500.0, {-0.08, 0.015, 4e-4, -3e-4, 0.0})).has_value());
+  EXPECT_FALSE(distortion_fold(lens(500.0, {0.3, 0.1, 0.0, 0.0, 0.0})).has_value());  // pincushion
+  EXPECT_FALSE(distortion_fold(lens(500.0, {})).has_value());
+  auto keys = valid_keys();
+  keys["camera_matrix"] =
+      "!!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 400., 0., 319.5, 0., "
+      "400., 239.5, 0., 0., 1. ]";
+  keys["distortion_coefficients"] = matrix_yaml(wide);
+  EXPECT_NO_THROW(load_camera_config(write("wide.yaml", yaml(keys))));
+}
+
+TEST_F(ConfigIoTest, NonInvertibleDistortionIsRefused) {
+  // k1 = -0.5: d r_d / d r = 1 - 1.5 r^2 = 0 at r = 0.816, where r_d = 0.544,
+  // short of the corner's r_d = sqrt(320^2 + 240^2) / 500 = 0.8.
+  const std::array<double, 5> barrel{-0.5, 0.0, 0.0, 0.0, 0.0};
+  const auto why = distortion_fold(lens(500.0, barrel));
+  ASSERT_TRUE(why.has_value());
+  EXPECT_NE(why->find("turns back at r = 0.816 (r_d = 0.544), inside the image corner r_d = 0.800"),
+            std::string::npos)
+      << *why;
+  auto keys = valid_keys();
+  keys["camera_matrix"] =
+      "!!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 500., 0., 319.5, 0., "
+      "500., 239.5, 0., 0., 1. ]";
+  keys["distortion_coefficients"] = matrix_yaml(barrel);
+  const std::string p = write("fold.yaml", yaml(keys));
+  expect_config_error([&] { load_camera_config(p); },
+                      {p, "distortion_coefficients", "not invertible over the image",
+                       "turns back at r = 0.816", "inside the image corner r_d = 0.800"});
+  // camera_only reads the lens all the same.
+  expect_config_error([&] { load_camera_config(p, ConfigKeys::camera_only); },
+                      {p, "distortion_coefficients", "not invertible"});
+  // Nor is such a lens written.
+  const std::string q = path("fold_out.yaml");
+  expect_config_error([&] { save_camera_config(lens(500.0, barrel), q); },
+                      {q, "distortion_coefficients", "not invertible"});
+  EXPECT_FALSE(fs::exists(q));
+  // The same lens behind a longer focal length sees only r_d <= 0.5: accepted.
+  EXPECT_FALSE(distortion_fold(lens(800.0, barrel)).has_value());
+  // A lens that turns back outside the image but below the corner radius:
+  // k1 = -0.25 at f = 500 peaks at r_d = 0.770 < 0.8.
+  const auto near = distortion_fold(lens(500.0, {-0.25, 0.0, 0.0, 0.0, 0.0}));
+  ASSERT_TRUE(near.has_value());
+  EXPECT_NE(near->find("turns back at r = 1.155 (r_d = 0.770)"), std::string::npos) << *near;
+  // Pincushion that falls back: k1 = 0.2, k3 = -1 turns at r = 0.760 (r_d =
+  // 0.701); with k3 = -0.5 it turns at r = 0.863, past the corner (r_d = 0.813).
+  const auto pincushion = distortion_fold(lens(500.0, {0.2, 0.0, 0.0, 0.0, -1.0}));
+  ASSERT_TRUE(pincushion.has_value());
+  EXPECT_NE(pincushion->find("turns back at r = 0.760 (r_d = 0.701)"), std::string::npos)
+      << *pincushion;
+  EXPECT_FALSE(distortion_fold(lens(500.0, {0.2, 0.0, 0.0, 0.0, -0.5})).has_value());
+  // Radially fine but the tangential terms fold the map inside the image.
+  const auto tangential = distortion_fold(lens(500.0, {-0.05, 0.0, 0.3, 0.0, 0.0}));
+  ASSERT_TRUE(tangential.has_value());
+  EXPECT_NE(tangential->find("folds"), std::string::npos) << *tangential;
+  EXPECT_NE(tangential->find("p1, p2"), std::string::npos) << *tangential;
+  // A positive k2 does not save k1 = -0.5 at f = 500: d r_d / d r =
+  // 1 - 1.5 r^2 + 0.5 r^4 = 0 at r = 1, where r_d = 0.6 < 0.8.
+  EXPECT_TRUE(distortion_fold(lens(500.0, {-0.5, 0.1, 0.0, 0.0, 0.0})).has_value());
+}
+
+TEST_F(ConfigIoTest, CameraOnlyNeedsNoSceneKeys) {
+  auto keys = valid_keys();
+  for (const char* k :
+       {"camera_pitch_deg", "camera_height_m", "ceiling_height_m", "tape_width_m"}) {
+    keys.erase(k);
+  }
+  const std::string p = write("lens_only.yaml", yaml(keys));
+  expect_config_error([&] { load_camera_config(p); }, {p, "missing"});
+  const CameraConfig c = load_camera_config(p, ConfigKeys::camera_only);
+  const CameraConfig defaults;
+  EXPECT_EQ(c.image_width, 640);
+  EXPECT_EQ(c.fx(), 510.5);
+  EXPECT_EQ(c.distortion_coefficients[0], -0.1);
+  EXPECT_EQ(c.camera_pitch_deg, defaults.camera_pitch_deg);
+  EXPECT_EQ(c.camera_height_m, defaults.camera_height_m);
+  EXPECT_EQ(c.ceiling_height_m, defaults.ceiling_height_m);
+  EXPECT_EQ(c.tape_width_m, defaults.tape_width_m);
+  // A present scene key is still read and checked.
+  keys["tape_width_m"] = "0.025";
+  EXPECT_EQ(
+      load_camera_config(write("tape.yaml", yaml(keys)), ConfigKeys::camera_only).tape_width_m,
+      0.025);
+  keys["tape_width_m"] = "-1.";
+  const std::string bad = write("bad_tape.yaml", yaml(keys));
+  expect_config_error([&] { load_camera_config(bad, ConfigKeys::camera_only); },
+                      {bad, "tape_width_m"});
+  keys["tape_width_m"] = "wide";
+  const std::string typo = write("typo_tape.yaml", yaml(keys));
+  expect_config_error([&] { load_camera_config(typo, ConfigKeys::camera_only); },
+                      {typo, "tape_width_m"});
+  // The camera keys stay required.
+  for (const char* k :
+       {"image_width", "image_height", "camera_matrix", "distortion_coefficients"}) {
+    auto lens_keys = valid_keys();
+    lens_keys.erase(k);
+    const std::string q = write(std::string("no_") + k + ".yaml", yaml(lens_keys));
+    expect_config_error([&] { load_camera_config(q, ConfigKeys::camera_only); }, {q, k, "missing"});
+  }
 }
 
 // The reader parses the file itself (yaml-cpp, pugixml), not through

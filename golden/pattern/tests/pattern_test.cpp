@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <string>
 #include <opencv2/imgproc.hpp>
 
 namespace ceilnav::golden::pattern {
@@ -211,6 +212,38 @@ TEST(PatternDatabaseIo, RoundTripAndErrors) {
                         "facing_deg: 0 }\n";
   EXPECT_THROW(load_pattern_database(bad), std::runtime_error);
   EXPECT_THROW(load_pattern_database((dir / "missing.yaml").string()), std::runtime_error);
+  std::filesystem::remove_all(dir);
+}
+
+// The message of a database without patterns: an empty list, written by
+// save_pattern_database or by hand, a missing key, a key of the wrong kind.
+TEST(PatternDatabaseIo, EmptyDatabaseIsNamed) {
+  const auto dir = std::filesystem::temp_directory_path() / "ceilnav_pattern_db_empty_test";
+  std::filesystem::create_directories(dir);
+  const auto message = [](const std::string& path) -> std::string {
+    try {
+      load_pattern_database(path);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::string saved = (dir / "saved.yaml").string();
+  save_pattern_database(saved, PatternDatabase{});
+  const std::string empty = (dir / "empty.yaml").string();
+  std::ofstream(empty) << "%YAML:1.0\npatterns: []\n";
+  for (const std::string& p : {saved, empty}) {
+    const std::string m = message(p);
+    EXPECT_NE(m.find(p), std::string::npos) << m;
+    EXPECT_NE(m.find("has no patterns (key patterns is an empty sequence)"), std::string::npos)
+        << m;
+  }
+  const std::string none = (dir / "none.yaml").string();
+  std::ofstream(none) << "%YAML:1.0\ngeometry: { radius_m: 0.2 }\n";
+  EXPECT_NE(message(none).find("missing key patterns"), std::string::npos) << message(none);
+  const std::string map = (dir / "map.yaml").string();
+  std::ofstream(map) << "%YAML:1.0\npatterns: { identity: 3 }\n";
+  EXPECT_NE(message(map).find("key patterns is not a sequence"), std::string::npos) << message(map);
   std::filesystem::remove_all(dir);
 }
 
