@@ -148,6 +148,11 @@ grep -v '^tape_width_m' "$frames/scene.yaml" >"$work/nokey.yaml"
 expect_error "missing YAML key" "tape_width_m" "$o" -- run --frames "$frames" --scene "$work/nokey.yaml" --out "$o"
 sed 's/^camera_height_m:.*/camera_height_m: "high"/' "$frames/scene.yaml" >"$work/typo.yaml"
 expect_error "mistyped YAML key" "camera_height_m" "$o" -- run --frames "$frames" --scene "$work/typo.yaml" --out "$o"
+# A lens whose distortion is not invertible over the image (k1 = -0.5 turns
+# the radial map back at r = 0.816, r_d = 0.544, inside the corner's 0.775).
+awk '/^distortion_coefficients:/ { print "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ -0.5, 0., 0., 0., 0. ]"; skip = 1; next }
+     skip && /^ / { next } { skip = 0; print }' "$frames/scene.yaml" >"$work/fold.yaml"
+expect_error "non-invertible distortion" "fold.yaml.*distortion_coefficients.*not invertible over the image: .*turns back at r = 0.816.*inside the image corner r_d = 0.775" "$o" -- run --frames "$frames" --scene "$work/fold.yaml" --out "$o"
 sed 's/^camera_pitch_deg:.*/camera_pitch_deg: 120./' "$frames/scene.yaml" >"$work/range.yaml"
 expect_error "out-of-range pitch" "camera_pitch_deg" "$o" -- run --frames "$frames" --scene "$work/range.yaml" --out "$o"
 expect_error "missing scene file" "nothere.yaml" "$o" -- run --frames "$frames" --scene "$work/nothere.yaml" --out "$o"
@@ -311,6 +316,26 @@ if $CEILNAV pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database 
 else
   bad "pattern --frames round trip" "$(cat "$work/pout.err")"
 fi
+# Only an ok row carries a pose: on every other row d_m .. heading_deg are
+# empty (the built-in run has a partial row, where a disc was seen).
+for csv in "$pat/pattern.csv" "$pout/pattern.csv"; do
+  if awk -F, 'NR > 1 && $3 != "ok" { n++; if ($5 != "no_pattern") seen++; for (i = 6; i <= 11; i++) if ($i != "") wrong++ }
+      NR > 1 && $3 == "ok" { if ($6 == "" || $7 == "" || $9 == "" || $10 == "" || $11 == "") wrong++ }
+      END { exit (wrong == 0 && n > 0 && seen > 0) ? 0 : 1 }' "$csv"; then
+    ok "pattern pose columns only on ok rows ($(basename "$(dirname "$csv")"))"
+  else
+    bad "pattern pose columns only on ok rows ($(basename "$(dirname "$csv")"))" "$(cut -d, -f3-11 "$csv")"
+  fi
+done
+# The pattern command needs only the lens keys; run needs the scene keys too.
+grep -vE '^(camera_pitch_deg|camera_height_m|ceiling_height_m|tape_width_m):' "$pat/scene.yaml" >"$work/lens_only.yaml"
+if $CEILNAV pattern --frames "$pat/frames" --scene "$work/lens_only.yaml" --database "$pat/patterns.yaml" \
+    --out "$work/plens" --quiet 2>"$work/plens.err" && cmp -s "$pout/pattern.csv" "$work/plens/pattern.csv"; then
+  ok "pattern --frames with a lens-only scene"
+else
+  bad "pattern --frames with a lens-only scene" "$(cat "$work/plens.err")"
+fi
+expect_error "run with a lens-only scene" "lens_only.yaml.*camera_pitch_deg.*missing" "$o" -- run --frames "$frames" --scene "$work/lens_only.yaml" --out "$o"
 # The pattern frames through every backend: the same CSV, byte for byte (the
 # host maths works on the device's class moments and run records).
 for backend in $CLI_BACKENDS; do
@@ -336,6 +361,9 @@ printf '%%YAML:1.0\npatterns:\n  - { identity: 99, x_m: 1, y_m: 2, z_m: 1, facin
 expect_error "pattern database identity out of range" "identity" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$work/db_bad_id.yaml" --out "$pbad2"
 printf '%%YAML:1.0\npatterns:\n  - { identity: 3, x_m: 1, y_m: 2 }\n' >"$work/db_no_z.yaml"
 expect_error "pattern database missing key" "missing key z_m" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$work/db_no_z.yaml" --out "$pbad2"
+printf '%%YAML:1.0\npatterns: []\n' >"$work/db_empty.yaml"
+expect_error "pattern database without patterns" "db_empty.yaml: has no patterns" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$work/db_empty.yaml" --out "$pbad2"
+expect_error "pattern non-invertible distortion" "fold.yaml.*distortion_coefficients.*not invertible" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --scene "$work/fold.yaml" --database "$pat/patterns.yaml" --out "$pbad2"
 printf 'not yaml at all: [\n' >"$work/db_garbage.yaml"
 expect_error "pattern database garbage" "database" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$work/db_garbage.yaml" --out "$pbad2"
 mkdir -p "$work/pempty"

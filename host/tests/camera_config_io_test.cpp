@@ -279,8 +279,8 @@ std::string matrix_yaml(const std::array<double, 5>& k) {
 }
 
 TEST_F(ConfigIoTest, InvertibleLensesPass) {
-  // A wide-angle lens (about 95 deg across at f = 400 px): its radial map
-  // rises past the corner's r_d = 1.0 before it turns back (r = 1.82).
+  // A wide-angle lens (90 deg across at f = 400 px): its radial map
+  // rises past the corner's r_d = 1.0 before it turns back (r = 1.86, r_d = 1.14).
   const std::array<double, 5> wide{-0.28, 0.09, 0.0012, -0.0008, -0.012};
   EXPECT_FALSE(distortion_fold(lens(400.0, wide)).has_value());
   EXPECT_NO_THROW(validate_camera_config(lens(400.0, wide), "wide"));
