@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
-#include <string>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 namespace ceilnav::golden::pattern {
 namespace {
