@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
+#include <string>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -45,6 +46,22 @@ std::string frame_name(int i) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "frame_%04d.png", i);
   return buf;
+}
+
+void check_overlay_every(int every) {
+  if (every < 0) {
+    throw std::runtime_error("--overlay-every must be 0 (off) or a positive frame count, not " +
+                             std::to_string(every));
+  }
+}
+
+bool overlay_due(int every, size_t index) {
+  check_overlay_every(every);
+  return every > 0 && index % static_cast<size_t>(every) == 0;
+}
+
+fs::path overlay_file_name(const std::string& frame_file) {
+  return fs::path(frame_file).filename().stem().string() + ".png";
 }
 
 SampledPose sample_pose(std::mt19937_64& rng, double pitch_min, double pitch_max, double yaw_max,

@@ -43,6 +43,18 @@ void write_scene(const OutputFolder& folder, const host::CameraConfig& camera);
 // frame_0000.png, frame_0001.png, ...
 std::string frame_name(int i);
 
+// --overlay-every N: whether the frame at `index` (0, 1, ... in processing
+// order) gets its own overlay, overlays/<frame name>.png. Every N-th frame
+// from frame 0 (0, N, 2N, ...); N = 0: none (the command's single overlay, if
+// it has one, is unchanged). Throws std::runtime_error for N < 0.
+bool overlay_due(int every, size_t index);
+// Throws std::runtime_error unless N >= 0 (before any output is written).
+void check_overlay_every(int every);
+// The overlay of frame file `frame_file` (frame_0003.png, or a recorded
+// frame's name): its stem with .png, e.g. frame_0003.png. Relative to the
+// overlays/ folder.
+std::filesystem::path overlay_file_name(const std::string& frame_file);
+
 // A camera pose drawn uniformly from the accuracy ranges: pitch in
 // [pitch_min, pitch_max] deg, yaw in [-yaw_max, yaw_max] deg, lateral offset in
 // [-offset_max, offset_max] m, x in [0, 10) m, noise and blur in [0, max).

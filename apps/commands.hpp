@@ -30,6 +30,9 @@ struct RunOptions {
   double gap_probability = 0.0;
   double backpressure_probability = 0.0;
   uint64_t seed = 1;
+  // N > 0: an overlay PNG of every N-th frame (frame 0 included) into
+  // overlays/ beside the CSV; 0: none.
+  int overlay_every = 0;
 };
 int run_frames(const RunOptions& o);
 

@@ -101,6 +101,12 @@ CLI::App* add_run_command(CLI::App& app, RunOptions& run) {
       ->check(finite_in(0.0, 0.99));
   run_cmd->add_option("--seed", run.seed, "model/rtl: seed of the gap/back-pressure pattern")
       ->check(unsigned_integer());
+  run_cmd
+      ->add_option("--overlay-every", run.overlay_every,
+                   "N >= 1: an overlay PNG of every N-th frame (frame 0 included) as "
+                   "overlays/<frame name>.png in the CSV's folder; 0: none")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   return run_cmd;
 }
 
@@ -258,6 +264,12 @@ CLI::App* add_pattern_command(CLI::App& app, PatternOptions& pat) {
       ->check(CLI::IsMember({"fast", "model", "rtl"}))
       ->capture_default_str();
   pat_cmd->add_flag("--quiet", pat.quiet, "No per-frame lines");
+  pat_cmd
+      ->add_option("--overlay-every", pat.overlay_every,
+                   "N >= 1: also an overlay PNG of every N-th frame (frame 0 included) as "
+                   "overlays/<frame name>.png; 0: only overlay.png of the last frame")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   return pat_cmd;
 }
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -17,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/atomic_file.hpp"
+#include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "apps/pattern_analysis.hpp"
 #include "common/csv.hpp"
@@ -82,12 +84,6 @@ cv::Mat overlay(const cv::Mat& grey, const PatternFrameAnalysis& a, const host::
   cv::putText(bgr, text, {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 255), 1,
               cv::LINE_AA);
   return bgr;
-}
-
-std::string frame_name_png(int i) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "frame_%04d.png", i);
-  return buf;
 }
 
 std::string fixed_text(double v, int digits) {
@@ -191,6 +187,12 @@ void make_dir(const fs::path& dir) {
   check_writable(dir / "probe");
 }
 
+// --overlay-every N > 0: out/overlays/, staged, committed with the other outputs.
+std::unique_ptr<OutputFolder> overlay_folder(const PatternOptions& o) {
+  if (o.overlay_every <= 0) return nullptr;
+  return std::make_unique<OutputFolder>(fs::path(o.out_dir) / "overlays");
+}
+
 int run_pattern_frames(const PatternOptions& o) {
   if (o.scene_file.empty() || o.database.empty()) {
     throw std::runtime_error("pattern --frames needs --scene and --database");
@@ -212,6 +214,7 @@ int run_pattern_frames(const PatternOptions& o) {
   po.up_cam = Eigen::Vector3d(0.0, -1.0, 0.0);
   std::vector<FixRow> rows;
   cv::Mat last_overlay;
+  const std::unique_ptr<OutputFolder> overlays = overlay_folder(o);
   for (const fs::path& f : frames) {
     const cv::Mat grey = host::read_grey_frame(f, camera.image_width, camera.image_height);
     const PatternFrameAnalysis a = analyse_pattern_frame(device, grey, radiometry, model, po);
@@ -219,8 +222,12 @@ int run_pattern_frames(const PatternOptions& o) {
     r.frame = f.filename().string();
     if (!o.quiet) std::printf("%s: %s\n", r.frame.c_str(), fix_text(r).c_str());
     last_overlay = overlay(grey, a, model, fix_text(r));
+    if (overlays && overlay_due(o.overlay_every, rows.size())) {
+      write_png(*overlays, overlay_file_name(r.frame), last_overlay);
+    }
     rows.push_back(r);
   }
+  if (overlays) overlays->commit();
   write_fix_csv(fs::path(o.out_dir) / "pattern.csv", rows);
   if (!last_overlay.empty()) write_png_file(fs::path(o.out_dir) / "overlay.png", last_overlay);
   return 0;
@@ -229,6 +236,7 @@ int run_pattern_frames(const PatternOptions& o) {
 }  // namespace
 
 int run_pattern(const PatternOptions& o) {
+  check_overlay_every(o.overlay_every);
   if (!o.frames_dir.empty()) return run_pattern_frames(o);
   if (!o.scene_file.empty() || !o.database.empty()) {
     throw std::runtime_error("pattern: --scene and --database go with --frames");
@@ -265,6 +273,7 @@ int run_pattern(const PatternOptions& o) {
   std::vector<FixRow> rows;
   std::vector<std::pair<std::string, gp::PatternTruth>> truths;
   cv::Mat last_overlay;
+  const std::unique_ptr<OutputFolder> overlays = overlay_folder(o);
   int centring = 0;
   bool verified = false;
   FixRow final_row;
@@ -287,7 +296,7 @@ int run_pattern(const PatternOptions& o) {
     po.noise_grey = o.noise_sigma;
     const PatternFrameAnalysis a = analyse_pattern_frame(device, grey, radiometry, model, po);
     FixRow r = make_fix(a, db, po.up_cam, pan);
-    r.frame = frame_name_png(static_cast<int>(rows.size()));
+    r.frame = frame_name(static_cast<int>(rows.size()));
     r.pan_deg = pan / kDeg;
     const gp::PatternTruth t = gp::pattern_truth(camera, db.geometry, station.identity, view);
     write_png_file(out / "frames" / r.frame, grey);
@@ -296,6 +305,9 @@ int run_pattern(const PatternOptions& o) {
       std::printf("%s pan %7.2f: %s\n", r.frame.c_str(), pan / kDeg, fix_text(r).c_str());
     }
     last_overlay = overlay(grey, a, model, fix_text(r));
+    if (overlays && overlay_due(o.overlay_every, rows.size())) {
+      write_png(*overlays, overlay_file_name(r.frame), last_overlay);
+    }
     rows.push_back(r);
     // Control: pan on until a code is seen; then turn toward the disc.
     const bool disc_seen =
@@ -321,6 +333,7 @@ int run_pattern(const PatternOptions& o) {
       pan += step;
     }
   }
+  if (overlays) overlays->commit();
   write_fix_csv(out / "pattern.csv", rows);
   {
     AtomicFile f(out / "truth.csv");

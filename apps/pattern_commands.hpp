@@ -16,6 +16,9 @@ struct PatternOptions {
   uint64_t seed = 1;
   std::string backend = "fast";  // fast | model | rtl (see drivers::DeviceOptions)
   bool quiet = false;
+  // N > 0: also overlays/<frame name>.png of every N-th frame (frame 0
+  // included); 0: only overlay.png of the last frame.
+  int overlay_every = 0;
 };
 int run_pattern(const PatternOptions& o);
 

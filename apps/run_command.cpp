@@ -5,11 +5,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 
 #include "apps/atomic_file.hpp"
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
+#include "apps/overlay.hpp"
 #include "apps/progress.hpp"
 #include "apps/results_csv.hpp"
 #include "drivers/device.hpp"
@@ -21,6 +23,7 @@ namespace ceilnav::app {
 namespace fs = std::filesystem;
 
 int run_frames(const RunOptions& o) {
+  check_overlay_every(o.overlay_every);
   const host::CameraConfig camera = host::load_camera_config(o.scene_file);
   const std::vector<fs::path> frames = host::list_png_frames(o.frames_dir);
   check_writable(o.out_csv);
@@ -31,6 +34,14 @@ int run_frames(const RunOptions& o) {
   device.seed = o.seed;
   host::Navigator nav(camera, drivers::make_device(device));
 
+  // --overlay-every: overlays/ beside the CSV, staged and committed just
+  // before the CSV, so a failed run leaves neither.
+  std::unique_ptr<OutputFolder> overlays;
+  if (o.overlay_every > 0) {
+    const fs::path parent = fs::path(o.out_csv).parent_path();
+    overlays =
+        std::make_unique<OutputFolder>((parent.empty() ? fs::path(".") : parent) / "overlays");
+  }
   AtomicFile csv(o.out_csv);
   write_results_header(csv.stream());
   Progress progress("frames", frames.size());
@@ -40,11 +51,16 @@ int run_frames(const RunOptions& o) {
     const cv::Mat grey = host::read_grey_frame(frames[i], camera.image_width, camera.image_height);
     const host::FrameOutcome r = nav.process(grey);
     write_results_row(csv.stream(), frames[i].filename().string(), r);
+    if (overlays && overlay_due(o.overlay_every, i)) {
+      write_png(*overlays, overlay_file_name(frames[i].filename().string()),
+                draw_overlay(grey, r, nav.camera_model()));
+    }
     if (frame_status(r) == "ok") ++ok;
     progress.update(i + 1);
   }
   progress.finish();
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (overlays) overlays->commit();
   csv.commit();
   std::fprintf(stderr, "ceilnav run: %zu frames (%d ok) in %.3f s = %.1f frames/s -> %s\n",
                frames.size(), ok, s, s > 0 ? static_cast<double>(frames.size()) / s : 0.0,

@@ -69,6 +69,34 @@ else
 fi
 if ! grep -qi nan "$out"; then ok "no NaN in CSV"; else bad "no NaN in CSV"; fi
 
+# --overlay-every N: overlays/<frame name>.png beside the CSV for frames 0, N,
+# 2N, ...; the CSV is the same as without it; none by default.
+[ ! -e "$work/overlays" ] && ok "run writes no overlays by default" || bad "run writes no overlays by default"
+mkdir -p "$work/five"; cp "$frames"/frame_000[0-4].png "$work/five/"
+for n in 1 2; do
+  mkdir -p "$work/ov$n"
+  if $CEILNAV run --frames "$work/five" --scene "$frames/scene.yaml" --out "$work/ov$n/out.csv" \
+      --overlay-every $n 2>"$work/ov$n.err" && cmp -s <(head -6 "$out") "$work/ov$n/out.csv"; then
+    ok "run --overlay-every $n exit 0, same CSV"
+  else
+    bad "run --overlay-every $n exit 0, same CSV" "$(cat "$work/ov$n.err")"
+  fi
+done
+got1=$(cd "$work/ov1/overlays" 2>/dev/null && ls -A | tr '\n' ' ')
+[ "$got1" = "frame_0000.png frame_0001.png frame_0002.png frame_0003.png frame_0004.png " ] &&
+  ok "run --overlay-every 1: 5 overlays of 5 frames" || bad "run --overlay-every 1: 5 overlays of 5 frames" "got: $got1"
+got2=$(cd "$work/ov2/overlays" 2>/dev/null && ls -A | tr '\n' ' ')
+[ "$got2" = "frame_0000.png frame_0002.png frame_0004.png " ] &&
+  ok "run --overlay-every 2: frames 0, 2, 4" || bad "run --overlay-every 2: frames 0, 2, 4" "got: $got2"
+# The PNG header (IHDR): 640 x 480, 8-bit, colour type 2 (RGB).
+ihdr=$(python3 -c 'import struct, sys; d = open(sys.argv[1], "rb").read(29); print(*struct.unpack(">IIBB", d[16:26]))' \
+  "$work/ov1/overlays/frame_0003.png" 2>&1)
+[ "$ihdr" = "640 480 8 2" ] && ok "run overlay is a 640x480 colour PNG" || bad "run overlay is a 640x480 colour PNG" "IHDR: $ihdr"
+mkdir -p "$work/ovbad"
+expect_error "run --overlay-every -1" "overlay-every" "$work/ovbad/out.csv" -- run --frames "$work/five" --scene "$frames/scene.yaml" --out "$work/ovbad/out.csv" --overlay-every -1
+expect_error "run --overlay-every x" "overlay-every" "$work/ovbad/out.csv" -- run --frames "$work/five" --scene "$frames/scene.yaml" --out "$work/ovbad/out.csv" --overlay-every x
+[ ! -e "$work/ovbad/overlays" ] && ok "bad --overlay-every: no overlays folder" || bad "bad --overlay-every: no overlays folder"
+
 # Clocked model gives the same CSV as the fast path.
 # Every backend gives the same CSV, byte for byte (model/rtl: through the
 # registers, with random gaps, back-pressure and AXI-Lite stalls).
@@ -335,6 +363,11 @@ if $CEILNAV pattern --frames "$pat/frames" --scene "$work/lens_only.yaml" --data
 else
   bad "pattern --frames with a lens-only scene" "$(cat "$work/plens.err")"
 fi
+# A run that fails on a frame after overlays were drawn leaves no CSV and no
+# overlays/ (staged, committed only at the end).
+mkdir -p "$work/ovfail"
+expect_error "run --overlay-every 1 failing mid-way" "320x240" "$work/ovfail/out.csv" -- run --frames "$work/midsize" --scene "$frames/scene.yaml" --out "$work/ovfail/out.csv" --overlay-every 1
+[ ! -e "$work/ovfail/overlays" ] && ok "failed run: no overlays folder" || bad "failed run: no overlays folder" "$(ls -aR "$work/ovfail")"
 expect_error "run with a lens-only scene" "lens_only.yaml.*camera_pitch_deg.*missing" "$o" -- run --frames "$frames" --scene "$work/lens_only.yaml" --out "$o"
 # The pattern frames through every backend: the same CSV, byte for byte (the
 # host maths works on the device's class moments and run records).
@@ -353,6 +386,37 @@ for backend in $CLI_BACKENDS; do
     bad "pattern --frames $backend == fast CSV" "$(cat "$work/pout_$backend.err")"
   fi
 done
+# --overlay-every on the pattern command: overlays/<frame name>.png of frames
+# 0, N, 2N, ... besides overlay.png (kept); none by default; same CSV.
+[ ! -e "$pat/overlays" ] && [ ! -e "$pout/overlays" ] && ok "pattern writes no overlays by default" ||
+  bad "pattern writes no overlays by default"
+npat=$(ls "$pat/frames" | wc -l)
+for n in 1 2; do
+  if $CEILNAV pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$pat/patterns.yaml" \
+      --out "$work/pov$n" --quiet --overlay-every $n 2>"$work/pov$n.err" && cmp -s "$pout/pattern.csv" "$work/pov$n/pattern.csv" &&
+    [ -s "$work/pov$n/overlay.png" ]; then
+    ok "pattern --frames --overlay-every $n exit 0, same CSV, overlay.png"
+  else
+    bad "pattern --frames --overlay-every $n exit 0, same CSV, overlay.png" "$(cat "$work/pov$n.err")"
+  fi
+  want=$(ls "$pat/frames" | awk -v n=$n '(NR - 1) % n == 0' | tr '\n' ' ')
+  got=$(cd "$work/pov$n/overlays" 2>/dev/null && ls -A | tr '\n' ' ')
+  [ "$npat" -ge 3 ] && [ "$got" = "$want" ] && ok "pattern --overlay-every $n: $(wc -w <<<"$got") of $npat frames" ||
+    bad "pattern --overlay-every $n: every ${n}th of $npat frames" "want '$want' got '$got'"
+done
+# The last frame's overlay.png is the overlays/ file of that frame.
+last=$(ls "$pat/frames" | tail -1)
+cmp -s "$work/pov1/overlay.png" "$work/pov1/overlays/$last" && ok "pattern overlay.png == overlays/$last" ||
+  bad "pattern overlay.png == overlays/$last"
+if $CEILNAV pattern --out "$work/pbov" --quiet --overlay-every 3 >/dev/null 2>&1 && cmp -s "$pat/pattern.csv" "$work/pbov/pattern.csv"; then
+  want=$(ls "$pat/frames" | awk '(NR - 1) % 3 == 0' | tr '\n' ' ')
+  got=$(cd "$work/pbov/overlays" 2>/dev/null && ls -A | tr '\n' ' ')
+  [ "$got" = "$want" ] && ok "pattern built-in --overlay-every 3" || bad "pattern built-in --overlay-every 3" "want '$want' got '$got'"
+else
+  bad "pattern built-in --overlay-every 3" "exit or CSV differs"
+fi
+expect_error "pattern --overlay-every -2" "overlay-every" "$work/pbadov" -- pattern --out "$work/pbadov" --overlay-every -2
+expect_error "pattern --frames --overlay-every -1" "overlay-every" "$work/pbadov" -- pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database "$pat/patterns.yaml" --out "$work/pbadov" --overlay-every -1
 pbad2=$work/pbad2
 expect_error "pattern frames without scene" "scene" "$pbad2/pattern.csv" -- pattern --frames "$pat/frames" --database "$pat/patterns.yaml" --out "$pbad2"
 expect_error "pattern scene without frames" "with --frames" "$pbad2/pattern.csv" -- pattern --scene "$pat/scene.yaml" --out "$pbad2"

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <stdexcept>
+#include <vector>
 
 namespace ceilnav::app {
 namespace {
@@ -33,6 +35,31 @@ TEST(CommandSupport, FrameNames) {
   EXPECT_EQ(frame_name(0), "frame_0000.png");
   EXPECT_EQ(frame_name(42), "frame_0042.png");
   EXPECT_EQ(frame_name(12345), "frame_12345.png");
+}
+
+TEST(CommandSupport, OverlayEveryNthFrameFromFrameZero) {
+  auto due = [](int every, size_t frames) {
+    std::vector<size_t> picked;
+    for (size_t i = 0; i < frames; ++i) {
+      if (overlay_due(every, i)) picked.push_back(i);
+    }
+    return picked;
+  };
+  EXPECT_EQ(due(0, 5), (std::vector<size_t>{}));  // off: the command's own single overlay only
+  EXPECT_EQ(due(1, 4), (std::vector<size_t>{0, 1, 2, 3}));
+  EXPECT_EQ(due(2, 5), (std::vector<size_t>{0, 2, 4}));
+  EXPECT_EQ(due(3, 7), (std::vector<size_t>{0, 3, 6}));
+  EXPECT_EQ(due(10, 3), (std::vector<size_t>{0}));  // frame 0 always, even when N > frames
+  EXPECT_THROW(overlay_due(-1, 0), std::runtime_error);
+  EXPECT_THROW(check_overlay_every(-2), std::runtime_error);
+  EXPECT_NO_THROW(check_overlay_every(0));
+  EXPECT_NO_THROW(check_overlay_every(5));
+}
+
+TEST(CommandSupport, OverlayFileNamedAfterItsFrame) {
+  EXPECT_EQ(overlay_file_name("frame_0003.png"), "frame_0003.png");
+  EXPECT_EQ(overlay_file_name("/data/run 2/cam0_000017.png"), "cam0_000017.png");
+  EXPECT_EQ(overlay_file_name("shot.v2.PNG"), "shot.v2.png");
 }
 
 TEST(CommandSupport, SampledPosesStayInTheirRanges) {
