@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -57,6 +58,17 @@ CLI::Validator unsigned_integer() {
 namespace ceilnav::app {
 namespace {
 
+// --overlay-every N (run, pattern): N >= 0, checked by CLI11 before any output;
+// `where` ends the help text (where the folder goes, what 0 means).
+void add_overlay_every(CLI::App& cmd, int& every, const std::string& where) {
+  cmd.add_option("--overlay-every", every,
+                 "N >= 1: an overlay PNG of every N-th frame (frame 0 included) as "
+                 "overlays/<frame name>.png " +
+                     where)
+      ->check(CLI::Range(0, std::numeric_limits<int>::max()))
+      ->capture_default_str();
+}
+
 // `ceilnav demo` and its options, parsed into `demo`.
 CLI::App* add_demo_command(CLI::App& app, DemoOptions& demo) {
   auto* demo_cmd = app.add_subcommand(
@@ -101,12 +113,7 @@ CLI::App* add_run_command(CLI::App& app, RunOptions& run) {
       ->check(finite_in(0.0, 0.99));
   run_cmd->add_option("--seed", run.seed, "model/rtl: seed of the gap/back-pressure pattern")
       ->check(unsigned_integer());
-  run_cmd
-      ->add_option("--overlay-every", run.overlay_every,
-                   "N >= 1: an overlay PNG of every N-th frame (frame 0 included) as "
-                   "overlays/<frame name>.png in the CSV's folder; 0: none")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  add_overlay_every(*run_cmd, run.overlay_every, "in the CSV's folder; 0: none");
   return run_cmd;
 }
 
@@ -264,12 +271,8 @@ CLI::App* add_pattern_command(CLI::App& app, PatternOptions& pat) {
       ->check(CLI::IsMember({"fast", "model", "rtl"}))
       ->capture_default_str();
   pat_cmd->add_flag("--quiet", pat.quiet, "No per-frame lines");
-  pat_cmd
-      ->add_option("--overlay-every", pat.overlay_every,
-                   "N >= 1: also an overlay PNG of every N-th frame (frame 0 included) as "
-                   "overlays/<frame name>.png; 0: only overlay.png of the last frame")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  add_overlay_every(*pat_cmd, pat.overlay_every,
+                    "in --out, besides overlay.png of the last frame; 0: only overlay.png");
   return pat_cmd;
 }
 
