@@ -186,6 +186,11 @@ std::optional<int> identity_from_blocks(int left_value, int right_value) {
   return left_value * 5 + low;
 }
 
+std::optional<int> mirrored_identity(int identity) {
+  const auto [left, right] = block_values(identity);
+  return identity_from_blocks(right, left);
+}
+
 double block_inner_x_m(const PatternGeometry& g) {
   return -(g.radius_m + g.bar_gap_m);
 }

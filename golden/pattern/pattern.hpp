@@ -62,6 +62,12 @@ std::optional<int> block_value(const std::array<int, kDataBars>& widths);
 std::pair<int, int> block_values(int identity);
 // Identity of a pair of block values; nullopt when the parity check fails.
 std::optional<int> identity_from_blocks(int left_value, int right_value);
+// What a mirror-image print (x -> -x on the pattern) of `identity` reads as:
+// each block moves to the other side and, its wide bar still outermost and
+// its data bars still read outer to inner, keeps its value, so (L, V) becomes
+// (V, L). The identity of that pair, nullopt when it fails the parity (the
+// mirrored print is unreadable). docs/pattern.md, "Mirrored print".
+std::optional<int> mirrored_identity(int identity);
 
 // One bar: pattern-frame x extent (the bar spans y in +-bar_height/2).
 struct BarSpan {

@@ -7,7 +7,9 @@
 #include <fstream>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace ceilnav::golden::pattern {
 namespace {
@@ -53,6 +55,47 @@ TEST(PatternCode, LayoutIsMirroredWithFixedBlockLength) {
   EXPECT_NEAR(bars[6].x0_m, -block_inner_x_m(g), 1e-12);
   EXPECT_NEAR(bars.back().x1_m, -block_outer_x_m(g), 1e-12);
   for (std::size_t k = 1; k < bars.size(); ++k) EXPECT_GT(bars[k].x0_m, bars[k - 1].x1_m);
+}
+
+TEST(PatternCode, MirroredPrintIsAnotherIdentitysPrintOrFailsTheParity) {
+  // The pattern's texture mirrored (x -> -x, bars then listed left to right):
+  // where mirrored_identity has a value it is exactly that identity's layout;
+  // where not, no identity has that layout (the swapped blocks fail the parity).
+  const PatternGeometry g;
+  int self = 0, other = 0, unreadable = 0;
+  for (int id = 0; id < kIdentityCount; ++id) {
+    std::vector<BarSpan> mirrored;
+    for (const BarSpan& b : bar_layout(g, id))
+      mirrored.insert(mirrored.begin(), {-b.x1_m, -b.x0_m});
+    const auto [left, right] = block_values(id);
+    const std::optional<int> m = mirrored_identity(id);
+    EXPECT_EQ(m, identity_from_blocks(right, left)) << id;
+    int same_layout = -1;
+    for (int other_id = 0; other_id < kIdentityCount; ++other_id) {
+      const auto bars = bar_layout(g, other_id);
+      bool same = true;
+      for (std::size_t k = 0; k < bars.size(); ++k) {
+        same = same && std::abs(bars[k].x0_m - mirrored[k].x0_m) < 1e-12 &&
+               std::abs(bars[k].x1_m - mirrored[k].x1_m) < 1e-12;
+      }
+      if (same) same_layout = other_id;
+    }
+    EXPECT_EQ(same_layout, m.value_or(-1)) << id;
+    if (!m) {
+      ++unreadable;
+    } else if (*m == id) {
+      ++self;
+    } else {
+      ++other;
+      EXPECT_EQ(mirrored_identity(*m), id);  // mirroring twice gives the print back
+    }
+  }
+  // docs/pattern.md, "Mirrored print": 6 identities (L == V) are their own
+  // mirror image, 20 read as another identity, 24 are unreadable mirrored.
+  EXPECT_EQ(self, 6);
+  EXPECT_EQ(other, 20);
+  EXPECT_EQ(unreadable, 24);
+  EXPECT_EQ(mirrored_identity(13), 36);
 }
 
 TEST(PatternLut, NominalLevelsAndFalloffRangeMapToTheirClasses) {

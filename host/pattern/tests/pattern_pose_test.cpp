@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <random>
 
 #include "golden/pattern/pattern.hpp"
@@ -209,6 +210,49 @@ TEST(Barcode, IdentityReadOnEveryFullyVisibleFrame) {
     }
   }
   EXPECT_GT(read, 12);
+}
+
+TEST(Barcode, MirroredPrintReadsAsTheMirrorIdentityOrIsUnreadable) {
+  // A mirror-image print seen from pose P is, mirrored in the image, the true
+  // print seen from the mirrored pose (the disc, rim, cylinder, plates, wall
+  // and on-axis lamp are symmetric in x; only the bars are not). With the
+  // principal point at the image centre and no distortion, flipping the
+  // rendered frame left-right is therefore exactly a render of the mirrored
+  // print (from theta, 180 deg - beta). docs/pattern.md, "Mirrored print".
+  const CameraConfig cam = plain_camera();
+  ASSERT_DOUBLE_EQ(cam.cx(), 0.5 * (cam.image_width - 1));
+  const CameraModel model(cam);
+  const gp::Radiometry r;
+  for (int id : {13, 36, 27, 1}) {
+    for (double th : {0.0, 20.0}) {
+      const gp::PatternView v = gp::spherical_view(2.0, th * kDeg, 80 * kDeg);
+      const cv::Mat grey = gp::render_pattern(cam, {}, r, id, v, {});
+      cv::Mat mirrored;
+      cv::flip(grey, mirrored, 1);
+      const BarcodeRead direct =
+          read_barcode(test_support::device_runs(grey, r), model, cam.image_width, code_options());
+      ASSERT_EQ(direct.status, PatternStatus::ok) << id;
+      ASSERT_EQ(direct.identity, id);
+      const BarcodeRead m = read_barcode(test_support::device_runs(mirrored, r), model,
+                                         cam.image_width, code_options());
+      const std::optional<int> want = gp::mirrored_identity(id);
+      if (want) {
+        // The mirrored print is bar for bar the print of *want: read as that.
+        EXPECT_EQ(m.status, PatternStatus::ok) << id << " th " << th;
+        EXPECT_EQ(m.identity, *want) << id << " th " << th;
+      } else {
+        // The swapped blocks fail the parity: no identity; unreadable, or
+        // partial where the rows crossing one block outvote the pair rows
+        // (theta 20 deg here). Never ok.
+        EXPECT_TRUE(m.status == PatternStatus::unreadable || m.status == PatternStatus::partial)
+            << id << " th " << th << " " << to_string(m.status);
+        EXPECT_EQ(m.identity, -1) << id << " th " << th;
+      }
+    }
+  }
+  EXPECT_EQ(gp::mirrored_identity(13), 36);  // the reported case: 13 mirrored reads 36
+  EXPECT_EQ(gp::mirrored_identity(27), 27);  // L == V: the print is its own mirror image
+  EXPECT_EQ(gp::mirrored_identity(1), std::nullopt);
 }
 
 TEST(Barcode, CutCodeIsPartialWithTheDiscDirectionNeverAWrongIdentity) {
