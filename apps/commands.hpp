@@ -70,6 +70,21 @@ struct AccuracyOptions {
 };
 int run_accuracy(const AccuracyOptions& o);
 
+struct ExposureOptions {
+  int frames = 48;
+  double pitch_deg = 45.0;
+  double step_m = 0.4;            // travel between frames
+  double tape_gain = -1.0;        // < 0: the default scene's (grey * m^2 at nominal exposure)
+  double background_grey = -1.0;  // < 0: the default scene's (at nominal exposure)
+  double noise_sigma = -1.0;      // < 0: the default scene's (read noise, exposure-independent)
+  uint64_t seed = 1;
+  std::string backend = "fast";
+  std::string csv;  // per-frame, per-policy rows, optional
+};
+int run_exposure(const ExposureOptions& o);
+// The exposure of frame i of the sweep (relative to nominal).
+double exposure_of_frame(int i);
+
 // The device for a backend name (fast, model, or rtl when this build has the
 // Verilated RTL; std::runtime_error otherwise); the bus backends with the
 // demo's tvalid gaps (0.1) and run-stream back-pressure (0.3).

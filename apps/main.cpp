@@ -189,6 +189,37 @@ CLI::App* add_accuracy_command(CLI::App& app, AccuracyOptions& acc) {
   return acc_cmd;
 }
 
+// `ceilnav exposure` and its options, parsed into `expo`.
+CLI::App* add_exposure_command(CLI::App& app, ExposureOptions& expo) {
+  auto* cmd = app.add_subcommand(
+      "exposure",
+      "Histogram correction table (seed 000) on an exposure sweep: a drive along one tape with "
+      "exposure steps of x0.5-x2 between frames, under each threshold policy; errors vs truth");
+  cmd->add_option("--frames", expo.frames, "Number of frames")
+      ->check(CLI::Range(2, 100000))
+      ->capture_default_str();
+  cmd->add_option("--pitch", expo.pitch_deg, "Camera pitch, degrees")
+      ->check(finite_in(1.0, 90.0))
+      ->capture_default_str();
+  cmd->add_option("--step", expo.step_m, "Travel between frames, metres")
+      ->check(finite_in(0.0, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--tape-gain", expo.tape_gain, "Tape return at nominal exposure: grey at 1 m")
+      ->check(finite_in(0.0, 1e7));
+  cmd->add_option("--background", expo.background_grey, "Ceiling grey at nominal exposure")
+      ->check(finite_in(0.0, 255.0));
+  cmd->add_option("--noise", expo.noise_sigma, "Read noise sigma, grey levels")
+      ->check(finite_in(0.0, 255.0));
+  cmd->add_option("--seed", expo.seed, "Noise seed")
+      ->check(unsigned_integer())
+      ->capture_default_str();
+  cmd->add_option("--backend", expo.backend, "fast, model or rtl")
+      ->check(CLI::IsMember({"fast", "model", "rtl"}))
+      ->capture_default_str();
+  cmd->add_option("--csv", expo.csv, "Per-frame, per-policy rows to this CSV");
+  return cmd;
+}
+
 // `ceilnav profile` and its options, parsed into `prof`.
 CLI::App* add_profile_command(CLI::App& app, ProfileOptions& prof) {
   auto* prof_cmd = app.add_subcommand(
@@ -344,6 +375,7 @@ int main(int argc, char** argv) {
   ProfileOptions prof;
   PatternOptions pat;
   PatternAccuracyOptions pacc;
+  ExposureOptions expo;
   CLI::App* demo_cmd = add_demo_command(app, demo);
   CLI::App* run_cmd = add_run_command(app, run);
   CLI::App* render_cmd = add_render_command(app, render);
@@ -351,6 +383,7 @@ int main(int argc, char** argv) {
   CLI::App* prof_cmd = add_profile_command(app, prof);
   CLI::App* pat_cmd = add_pattern_command(app, pat);
   CLI::App* pacc_cmd = add_pattern_accuracy_command(app, pacc);
+  CLI::App* expo_cmd = add_exposure_command(app, expo);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -361,6 +394,7 @@ int main(int argc, char** argv) {
     if (*prof_cmd) return run_profile(prof);
     if (*pat_cmd) return run_pattern(pat);
     if (*pacc_cmd) return run_pattern_accuracy(pacc);
+    if (*expo_cmd) return run_exposure(expo);
   } catch (const ceilnav::host::ConfigError& e) {
     std::cerr << "ceilnav: scene error: " << e.what() << '\n';
     return 1;

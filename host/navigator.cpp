@@ -41,13 +41,16 @@ FrameOutcome Navigator::process(const cv::Mat& grey) {
     out.settings = settings;
     out.passes = pass;
     fresh = choose_threshold(out.results.histogram, options_.threshold);
-    const bool stale = !previous_.has_value() ||
+    const bool first = !previous_.has_value();
+    const bool stale = first ||
                        std::abs(static_cast<int>(fresh.threshold) - settings.threshold) >
                            options_.threshold_tolerance_grey ||
                        std::abs(static_cast<int>(fresh.background_level) -
                                 settings.background_level) > options_.threshold_tolerance_grey;
-    previous_ = fresh;
-    if (!stale || pass == 2) break;
+    const bool reprogram = first || options_.threshold_policy != ThresholdPolicy::first_frame;
+    const bool rerun = first || options_.threshold_policy == ThresholdPolicy::previous_frame_rerun;
+    if (reprogram) previous_ = fresh;
+    if (!stale || !rerun || pass == 2) break;
     settings = fresh;
   }
 

@@ -2,11 +2,15 @@
 // the histogram, stream the frame through the pipeline, collect the runs and
 // turn them into a pose.
 //
-// Threshold policy (a camera stream changes slowly): each frame is processed
-// with the settings chosen from the previous frame's histogram. If this frame's
-// own histogram asks for a threshold that differs by more than
-// `threshold_tolerance_grey` (or on the first frame), the frame is processed
-// again with the new settings — a second pass, counted in FrameOutcome::passes.
+// Threshold policy — seed 000's histogram correction table: the LUT is
+// reprogrammed between frames from the previous frame's histogram, so the
+// threshold and the run-weight background follow the exposure (a camera
+// stream changes slowly). With ThresholdPolicy::previous_frame_rerun (the
+// default), if this frame's own histogram asks for a threshold that differs by
+// more than `threshold_tolerance_grey` (or on the first frame), the frame is
+// processed again with the new settings — a second pass, counted in
+// FrameOutcome::passes. Measured on exposure steps of x0.5-x2 between frames
+// (`ceilnav exposure`) in docs/results.md.
 #pragma once
 
 #include <cstdint>
@@ -26,8 +30,17 @@
 
 namespace ceilnav::host {
 
+// When the LUT is reprogrammed from a histogram. Every policy processes the
+// first frame twice (there is no earlier histogram to program it from).
+enum class ThresholdPolicy {
+  first_frame,           // chosen on the first frame, then fixed (no correction table)
+  previous_frame,        // seed 000: from the previous frame's histogram, one pass
+  previous_frame_rerun,  // ... and a second pass when this frame's own histogram disagrees
+};
+
 struct NavigatorOptions {
   ThresholdOptions threshold;
+  ThresholdPolicy threshold_policy = ThresholdPolicy::previous_frame_rerun;
   TapePoseOptions pose;
   int threshold_tolerance_grey = 4;  // tunable: re-run a frame when the threshold moves more
   uint16_t min_run_length = 2;       // tunable: single-pixel runs are noise

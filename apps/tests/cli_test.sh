@@ -199,6 +199,18 @@ expect_error "demo out unwritable" "cannot create output folder '/proc/ceilnav_c
 expect_error "accuracy csv unwritable" "cannot write '/proc/ceilnav_cli.csv'" "/proc/ceilnav_cli.csv" -- accuracy --frames 1 --csv /proc/ceilnav_cli.csv
 expect_error "accuracy csv folder missing" "does not exist" "$work/nodir/acc.csv" -- accuracy --frames 1 --csv "$work/nodir/acc.csv"
 expect_error "accuracy csv is a folder" "is a folder" "" -- accuracy --frames 1 --csv "$work/empty"
+# exposure: the three threshold policies on an exposure sweep, a CSV row per
+# frame and policy; bad arguments refused before any output.
+if $CEILNAV exposure --frames 6 --csv "$work/expo.csv" >"$work/expo.log" 2>&1 &&
+    [ "$(grep -c '^first_frame \|^previous_frame \|^previous_frame_rerun ' "$work/expo.log")" -eq 6 ] &&
+    [ "$(tail -n +2 "$work/expo.csv" | wc -l)" -eq 18 ]; then
+  ok "exposure sweep"
+else
+  bad "exposure sweep" "$(cat "$work/expo.log")"
+fi
+expect_error "exposure one frame" "frames" "" -- exposure --frames 1
+expect_error "exposure pitch 0" "pitch" "" -- exposure --pitch 0
+expect_error "exposure csv unwritable" "cannot write '/proc/ceilnav_cli.csv'" "/proc/ceilnav_cli.csv" -- exposure --frames 2 --csv /proc/ceilnav_cli.csv
 # A write that fails part way (a 1 KiB file size limit, SIGXFSZ ignored so
 # that write() fails with EFBIG): render and demo leave no file, not even the
 # folder they created; an existing folder keeps what it had.
