@@ -32,7 +32,7 @@ expect_error() {
   ok "$name"
 }
 
-for cmd in "" demo run render accuracy profile pattern pattern-accuracy; do
+for cmd in "" demo run render accuracy exposure profile pattern pattern-accuracy; do
   if $CEILNAV $cmd --help >"$work/help.txt" 2>&1 && grep -q -- "--" "$work/help.txt"; then
     ok "help ${cmd:-top}"
   else
