@@ -16,12 +16,7 @@ namespace {
 namespace gp = golden::pattern;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-CameraConfig study_camera() {
-  CameraConfig c;
-  c.camera_matrix = {520.0, 0.0, 321.7, 0.0, 518.5, 238.2, 0.0, 0.0, 1.0};
-  c.distortion_coefficients = {-0.08, 0.015, 0.0004, -0.0003, 0.0};
-  return c;
-}
+using test_support::study_camera;
 
 struct Frame {
   FrameMoments m{};
