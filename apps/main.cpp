@@ -356,6 +356,9 @@ CLI::App* add_pattern_accuracy_command(CLI::App& app, PatternAccuracyOptions& pa
   pacc_cmd->add_flag("--require", pacc.require,
                      "Exit 1 unless D error <= 0.3 %, theta error <= 0.3 deg (theta >= 15) "
                      "for the conic method and every visible code is read, none wrongly");
+  pacc_cmd->add_flag("--swing-height", pacc.swing_height,
+                     "Instead: the seed's swing (eq. 57-66, 70) and sensor height (eq. 69) error "
+                     "analysis on rendered frames (pinhole camera), Markdown tables on stdout");
   return pacc_cmd;
 }
 

@@ -77,6 +77,7 @@ std::vector<PatternAccuracyRow> measure_pattern_accuracy(const PatternAccuracyOp
 }
 
 int run_pattern_accuracy(const PatternAccuracyOptions& o) {
+  if (o.swing_height) return run_pattern_swing_height_study(o);
   if (!o.csv.empty()) check_writable(o.csv);
   if (!o.plot.empty()) check_writable(o.plot);
   const host::CameraConfig camera = scaled_camera(o.width, o.height, o.distortion);

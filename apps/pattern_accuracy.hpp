@@ -73,4 +73,8 @@ void plot_pattern_accuracy(const std::filesystem::path& png, const PatternAccura
                            const host::CameraConfig& camera,
                            const golden::pattern::PatternGeometry& g);
 
+// --swing-height: seed 003's swing (eq. 57-66, 70) and sensor height (eq. 69)
+// error analysis against rendered frames, as Markdown tables on stdout.
+int run_pattern_swing_height_study(const PatternAccuracyOptions& o);
+
 }  // namespace ceilnav::app

@@ -31,6 +31,7 @@
 #include "host/pattern/pattern_frame.hpp"
 #include "host/pattern/pattern_pose.hpp"
 #include "host/pattern/pattern_search.hpp"
+#include "host/pattern/world_fix.hpp"
 
 namespace ceilnav::app {
 namespace fs = std::filesystem;
@@ -107,6 +108,7 @@ struct FixRow {
   std::string code_status;
   double d = kNaN, theta = kNaN, beta = kNaN;
   double x = kNaN, y = kNaN, heading = kNaN;
+  double swing = kNaN;  // deg, eq. 70: from the up the bars measured (ok rows)
 };
 
 // One frame's fix: the exact conic pose refined with the bars, the code, the database.
@@ -142,6 +144,8 @@ FixRow make_fix(const PatternFrameAnalysis& a, const gp::PatternDatabase& db,
     r.x = w.x_m;
     r.y = w.y_m;
     r.heading = std::remainder(w.camera_yaw_rad - pan_rad, 2.0 * std::numbers::pi) / kDeg;
+    // The camera's swing (eq. 70) where the bars measured the up.
+    if (p.up_cam) r.swing = hp::swing_from_up(*p.up_cam) / kDeg;
   }
   return r;
 }
@@ -150,7 +154,7 @@ void write_fix_csv(const fs::path& path, const std::vector<FixRow>& rows) {
   AtomicFile f(path);
   CsvWriter w(f.stream());
   w.row({"frame", "pan_deg", "status", "identity", "code_status", "d_m", "theta_deg", "beta_deg",
-         "x_m", "y_m", "heading_deg"});
+         "x_m", "y_m", "heading_deg", "swing_deg"});
   for (const FixRow& r : rows) {
     w.text(r.frame).fixed(r.pan_deg, 3).text(r.status);
     if (r.identity >= 0) {
@@ -159,7 +163,7 @@ void write_fix_csv(const fs::path& path, const std::vector<FixRow>& rows) {
       w.empty();
     }
     w.text(r.code_status).fixed(r.d, 5).fixed(r.theta, 4).fixed(r.beta, 4);
-    w.fixed(r.x, 4).fixed(r.y, 4).fixed(r.heading, 4).end_row();
+    w.fixed(r.x, 4).fixed(r.y, 4).fixed(r.heading, 4).fixed(r.swing, 4).end_row();
   }
   f.commit();
 }

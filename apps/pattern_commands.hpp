@@ -38,6 +38,7 @@ struct PatternAccuracyOptions {
   std::string csv;               // per-frame errors, optional
   std::string plot;              // PNG of the error curves, optional
   bool require = false;          // exit 1 unless the bars hold (docs/pattern.md)
+  bool swing_height = false;     // the swing and height error analysis instead (eq. 57-70)
 };
 int run_pattern_accuracy(const PatternAccuracyOptions& o);
 

@@ -340,7 +340,7 @@ chmod u+w "$work/empty"
 pat=$work/pat
 if $CEILNAV pattern --out "$pat" --quiet >"$work/pat.log" 2>&1; then ok "pattern exit 0"; else bad "pattern exit 0" "$(cat "$work/pat.log")"; fi
 pheader=$(head -1 "$pat/pattern.csv" 2>/dev/null)
-for col in d_m theta_deg beta_deg identity status x_m y_m heading_deg; do
+for col in d_m theta_deg beta_deg identity status x_m y_m heading_deg swing_deg; do
   if tr ',' '\n' <<<"$pheader" | grep -qx "$col"; then ok "pattern column $col"; else bad "pattern column $col"; fi
 done
 if grep -q ',ok,7,ok,' "$pat/pattern.csv" 2>/dev/null && [ -s "$pat/overlay.png" ]; then
@@ -356,15 +356,17 @@ if $CEILNAV pattern --frames "$pat/frames" --scene "$pat/scene.yaml" --database 
 else
   bad "pattern --frames round trip" "$(cat "$work/pout.err")"
 fi
-# Only an ok row carries a pose: on every other row d_m .. heading_deg are
-# empty (the built-in run has a partial row, where a disc was seen).
+# Only an ok row carries a pose: on every other row d_m .. swing_deg are
+# empty (the built-in run has a partial row, where a disc was seen); the
+# built-in camera has no swing: |swing_deg| < 0.1 on the ok rows.
 for csv in "$pat/pattern.csv" "$pout/pattern.csv"; do
-  if awk -F, 'NR > 1 && $3 != "ok" { n++; if ($5 != "no_pattern") seen++; for (i = 6; i <= 11; i++) if ($i != "") wrong++ }
-      NR > 1 && $3 == "ok" { if ($6 == "" || $7 == "" || $9 == "" || $10 == "" || $11 == "") wrong++ }
+  if awk -F, 'NR > 1 && $3 != "ok" { n++; if ($5 != "no_pattern") seen++; for (i = 6; i <= 12; i++) if ($i != "") wrong++ }
+      NR > 1 && $3 == "ok" { if ($6 == "" || $7 == "" || $9 == "" || $10 == "" || $11 == "" || $12 == "") wrong++
+                             if ($12 > 0.1 || $12 < -0.1) wrong++ }
       END { exit (wrong == 0 && n > 0 && seen > 0) ? 0 : 1 }' "$csv"; then
     ok "pattern pose columns only on ok rows ($(basename "$(dirname "$csv")"))"
   else
-    bad "pattern pose columns only on ok rows ($(basename "$(dirname "$csv")"))" "$(cut -d, -f3-11 "$csv")"
+    bad "pattern pose columns only on ok rows ($(basename "$(dirname "$csv")"))" "$(cut -d, -f3-12 "$csv")"
   fi
 done
 # The pattern command needs only the lens keys; run needs the scene keys too.

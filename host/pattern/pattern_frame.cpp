@@ -3,6 +3,8 @@
 #include <utility>
 #include <vector>
 
+#include "host/pattern/disc_evidence.hpp"
+
 namespace ceilnav::host::pattern {
 
 PatternAnalysis analyse_pattern(std::span<const stream::RunRecord> runs, const FrameMoments& m,
@@ -15,7 +17,9 @@ PatternAnalysis analyse_pattern(std::span<const stream::RunRecord> runs, const F
   a.disc_cut = !a.disc.empty() && (a.disc.u_min == 0 || a.disc.v_min == 0 ||
                                    a.disc.u_max == width - 1 || a.disc.v_max == height - 1);
   a.conic = conic_method(m, camera, pose);
-  if (a.conic.status != PatternStatus::no_pattern) {
+  // The disc's fits only where its runs are one convex region's (bounded
+  // time on frames without the pattern, docs/pattern.md).
+  if (a.conic.status != PatternStatus::no_pattern && one_run_per_row(disc_runs, height)) {
     // The sub-pixel outline from the disc runs' coverage weights when it
     // fits, then every disc run's coverage sums against the exact prediction
     // for a candidate ellipse (coverage fit), started from the outline or,
@@ -24,7 +28,9 @@ PatternAnalysis analyse_pattern(std::span<const stream::RunRecord> runs, const F
         ellipse_from_disc_runs(disc_runs, m[kDisc], coverage.k, width, pose.psf_sigma_px, camera);
     if (outline) a.conic = conic_method(*outline, m, camera, pose);
     const auto start = outline ? outline : ellipse_from_moments(m[kDisc], camera);
-    if (start) {
+    // The fit only where the runs are evidence of one filled ellipse near
+    // the start (bounded time on frames without the pattern).
+    if (start && runs_fit_ellipse(disc_runs, *start, camera, width, height)) {
       a.fit = fit_disc_coverage(disc_runs, *start, coverage, camera, width, height);
       if (a.fit) a.conic = conic_method(a.fit->ellipse, m, camera, pose);
     }

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 
 namespace ceilnav::host::pattern {
 
@@ -40,6 +41,13 @@ WorldFix world_fix(const PatternPose& pose, const Placement& placement,
   f.camera_yaw_rad = std::atan2(fwd.y(), fwd.x());
   if (!std::isfinite(f.camera_yaw_rad)) f.camera_yaw_rad = 0.0;
   return f;
+}
+
+double swing_from_up(const Eigen::Vector3d& up_cam) {
+  if (!up_cam.allFinite() || !(std::hypot(up_cam.x(), up_cam.y()) > 1e-12)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return std::atan2(-up_cam.x(), -up_cam.y());
 }
 
 }  // namespace ceilnav::host::pattern

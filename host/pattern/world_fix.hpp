@@ -22,4 +22,14 @@ struct WorldFix {
 WorldFix world_fix(const PatternPose& pose, const Placement& placement,
                    const Eigen::Vector3d& up_cam);
 
+// The camera's swing sigma (seed 003 eq. 70, beta' = beta + sigma): its roll
+// about the optical axis away from the pose where its x axis is horizontal,
+// positive clockwise in the image (golden::pattern::look_at's convention),
+// from the world's up in camera coordinates (x right, y down, z forward):
+// sigma = atan2(-up_x, -up_y). Exact at any tilt; it is the angle a vertical
+// line through the principal point makes with the image's vertical (the
+// seed's "angle that a vertical line in the world makes with the vertical in
+// the image"). NaN when up is along the optical axis.
+double swing_from_up(const Eigen::Vector3d& up_cam);
+
 }  // namespace ceilnav::host::pattern

@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/camera_config.hpp"
 #include "common/run_record.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "stream/pipeline.hpp"
@@ -22,6 +23,14 @@ inline std::vector<stream::RunRecord> device_runs(const cv::Mat& grey,
   std::vector<stream::RunRecord> runs;
   pipeline.process_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], &runs);
   return runs;
+}
+
+// The error study's camera (640x480, barrel distortion).
+inline host::CameraConfig study_camera() {
+  host::CameraConfig c;
+  c.camera_matrix = {520.0, 0.0, 321.7, 0.0, 518.5, 238.2, 0.0, 0.0, 1.0};
+  c.distortion_coefficients = {-0.08, 0.015, 0.0004, -0.0003, 0.0};
+  return c;
 }
 
 }  // namespace ceilnav::test_support

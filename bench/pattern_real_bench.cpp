@@ -1,0 +1,184 @@
+// Time of `ceilnav pattern`'s per-frame work (device on the fast backend plus
+// the host's whole analysis, host::pattern::analyse_pattern) on real frames
+// that hold no standard pattern: a raw corpus of 640x480 8-bit grey frames
+// (optionally gzip'd) and a folder of photos (grey, scaled to cover 640x480
+// and centre-cropped). Per frame the best of the benchmark's iterations (at
+// least 3 s of them) is kept; the counters give the max and median over the frames and how many
+// frames the reader would have called `ok` (must be 0: none has a pattern).
+// Usage:
+//   ceilnav_pattern_bench --raw=/path/data.raw.gz --images=/path/to/photos
+//   [--only=TEXT] (frames whose name contains TEXT)
+// CEILNAV_PATTERN_BENCH_LIST=1 also prints every frame's time.
+// See docs/performance.md ("Pattern reader on real frames") and
+// docs/pattern.md.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <zlib.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "common/run_record.hpp"
+#include "golden/default_scene.hpp"
+#include "golden/pattern/pattern.hpp"
+#include "host/camera_model.hpp"
+#include "host/pattern/pattern_frame.hpp"
+#include "stream/pipeline.hpp"
+
+namespace {
+
+using namespace ceilnav;
+namespace gp = golden::pattern;
+namespace hp = host::pattern;
+namespace fs = std::filesystem;
+
+constexpr int kWidth = 640;
+constexpr int kHeight = 480;
+
+struct Frame {
+  std::string name;
+  cv::Mat grey;  // kWidth x kHeight, CV_8UC1
+};
+
+std::vector<Frame>& frames() {
+  static std::vector<Frame> f;
+  return f;
+}
+
+// Concatenated raw frames, plain or gzip'd (zlib reads both).
+void load_raw(const std::string& path) {
+  gzFile in = gzopen(path.c_str(), "rb");
+  if (in == nullptr) throw std::runtime_error("cannot open '" + path + "'");
+  const fs::path p(path);
+  for (int i = 0;; ++i) {
+    cv::Mat m(kHeight, kWidth, CV_8UC1);
+    const int want = kWidth * kHeight;
+    const int got = gzread(in, m.data, static_cast<unsigned>(want));
+    if (got != want) break;
+    frames().push_back({p.filename().string() + "#" + std::to_string(i), m});
+  }
+  gzclose(in);
+}
+
+// Every *.jpg and *.png of a folder: grey, scaled so it covers 640x480,
+// centre-cropped.
+void load_images(const std::string& dir) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string ext = e.path().extension().string();
+    if (e.is_regular_file() && (ext == ".jpg" || ext == ".png")) files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  for (const fs::path& f : files) {
+    const cv::Mat g = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
+    if (g.empty() || g.cols < 8 || g.rows < 8) continue;
+    const double s =
+        std::max(static_cast<double>(kWidth) / g.cols, static_cast<double>(kHeight) / g.rows);
+    const int w = std::max(kWidth, static_cast<int>(std::ceil(g.cols * s)));
+    const int h = std::max(kHeight, static_cast<int>(std::ceil(g.rows * s)));
+    cv::Mat scaled;
+    cv::resize(g, scaled, {w, h}, 0.0, 0.0, s < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
+    const cv::Rect crop((w - kWidth) / 2, (h - kHeight) / 2, kWidth, kHeight);
+    frames().push_back({f.filename().string(), scaled(crop).clone()});
+  }
+}
+
+// The device (fast backend) and the host on every frame; per frame the best
+// time over the iterations.
+void BM_PatternRealFrames(benchmark::State& state) {
+  if (frames().empty()) {
+    state.SkipWithError("no frames: pass --raw=FILE and/or --images=DIR");
+    return;
+  }
+  const host::CameraConfig camera = golden::default_camera();
+  const host::CameraModel model(camera);
+  const gp::Radiometry radiometry;
+  stream::Pipeline pipeline;
+  pipeline.set_config(gp::device_config(kWidth, kHeight, radiometry));
+  hp::PoseOptions po;
+  po.up_cam = Eigen::Vector3d(0.0, -1.0, 0.0);
+  hp::BarcodeOptions bo;
+  bo.bar_contrast =
+      radiometry.level(gp::PixelClass::background) - radiometry.level(gp::PixelClass::bar);
+  bo.radius_m = po.radius_m;
+  bo.min_bar_run_weight = gp::bar_run_min_weight(radiometry);
+  const hp::DiscCoverageModel cov =
+      gp::disc_coverage_model(radiometry, po.noise_grey, po.psf_sigma_px, po.blur_on_pixels);
+  // Kept across the library's calls (its estimate run and the timed run).
+  static std::vector<double> best(frames().size(), std::numeric_limits<double>::infinity());
+  int ok = 0;
+  std::vector<stream::RunRecord> runs;
+  for (auto _ : state) {
+    ok = 0;
+    for (size_t i = 0; i < frames().size(); ++i) {
+      const cv::Mat& g = frames()[i].grey;
+      const auto t0 = std::chrono::steady_clock::now();
+      runs.clear();
+      const stream::FrameResults res =
+          pipeline.process_frame(g.data, g.cols, g.rows, g.step, &runs);
+      const hp::FrameMoments m = hp::device_moments(res.class_moments);
+      const hp::PatternAnalysis a =
+          hp::analyse_pattern(runs, m, model, kWidth, kHeight, po, bo, cov);
+      const auto t1 = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(a);
+      best[i] = std::min(best[i], std::chrono::duration<double, std::milli>(t1 - t0).count());
+      if (a.code.status == hp::PatternStatus::ok && a.conic_bars.status == hp::PatternStatus::ok) {
+        ++ok;
+      }
+    }
+  }
+  std::vector<double> sorted = best;
+  std::sort(sorted.begin(), sorted.end());
+  const size_t worst =
+      static_cast<size_t>(std::max_element(best.begin(), best.end()) - best.begin());
+  state.counters["frames"] = static_cast<double>(best.size());
+  state.counters["max_ms"] = sorted.back();
+  state.counters["median_ms"] = sorted[sorted.size() / 2];
+  state.counters["ok_frames"] = ok;
+  std::printf("pattern on %zu real frames: max %.2f ms (%s), median %.2f ms, ok %d\n", best.size(),
+              sorted.back(), frames()[worst].name.c_str(), sorted[sorted.size() / 2], ok);
+  if (std::getenv("CEILNAV_PATTERN_BENCH_LIST") != nullptr) {
+    for (size_t i = 0; i < best.size(); ++i) {
+      std::printf("  %-28s %8.2f ms\n", frames()[i].name.c_str(), best[i]);
+    }
+  }
+  if (ok > 0) state.SkipWithError("a frame without a pattern read as ok");
+}
+BENCHMARK(BM_PatternRealFrames)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  std::vector<char*> rest;
+  std::string only;
+  for (int i = 0; i < argc; ++i) {
+    const char* a = argv[i];
+    if (std::strncmp(a, "--raw=", 6) == 0) {
+      load_raw(a + 6);
+    } else if (std::strncmp(a, "--images=", 9) == 0) {
+      load_images(a + 9);
+    } else if (std::strncmp(a, "--only=", 7) == 0) {
+      only = a + 7;
+    } else {
+      rest.push_back(argv[i]);
+    }
+  }
+  // --only=TEXT keeps the frames whose name contains TEXT (for profiling).
+  if (!only.empty()) {
+    std::erase_if(frames(), [&](const Frame& f) { return f.name.find(only) == std::string::npos; });
+  }
+  int n = static_cast<int>(rest.size());
+  if (benchmark::ReportUnrecognizedArguments(n, rest.data())) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
