@@ -1,12 +1,14 @@
 // Time of `ceilnav pattern`'s per-frame work (device on the fast backend plus
 // the host's whole analysis, host::pattern::analyse_pattern) on real frames
-// that hold no standard pattern: a raw corpus of 640x480 8-bit grey frames
-// (optionally gzip'd) and a folder of photos (grey, scaled to cover 640x480
-// and centre-cropped). Per frame the best of the benchmark's iterations (at
+// that hold no standard pattern: by default the real-image corpus
+// (testdata/real/README.md: cycloid's ceiling recording and opencv-doc's
+// photos, 640x480 grey); --raw=FILE reads a recording in the cycloid format
+// instead, --images=DIR the photos of a folder (scaled to cover 640x480 and
+// centre-cropped). Per frame the best of the benchmark's iterations (at
 // least 3 s of them) is kept; the counters give the max and median over the frames and how many
 // frames the reader would have called `ok` (must be 0: none has a pattern).
 // Usage:
-//   ceilnav_pattern_bench --raw=/path/data.raw.gz --images=/path/to/photos
+//   ceilnav_pattern_bench [--raw=/path/data.raw.gz] [--images=/path/to/photos]
 //   [--only=TEXT] (frames whose name contains TEXT)
 // CEILNAV_PATTERN_BENCH_LIST=1 also prints every frame's time.
 // See docs/performance.md ("Pattern reader on real frames") and
@@ -16,21 +18,21 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <limits>
 #include <string>
 #include <vector>
 
-#include <zlib.h>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+#include <opencv2/core.hpp>
 
 #include "common/run_record.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_model.hpp"
 #include "host/pattern/pattern_frame.hpp"
+#include "real_corpus.hpp"
 #include "stream/pipeline.hpp"
 
 namespace {
@@ -53,49 +55,23 @@ std::vector<Frame>& frames() {
   return f;
 }
 
-// Concatenated raw frames, plain or gzip'd (zlib reads both).
-void load_raw(const std::string& path) {
-  gzFile in = gzopen(path.c_str(), "rb");
-  if (in == nullptr) throw std::runtime_error("cannot open '" + path + "'");
-  const fs::path p(path);
-  for (int i = 0;; ++i) {
-    cv::Mat m(kHeight, kWidth, CV_8UC1);
-    const int want = kWidth * kHeight;
-    const int got = gzread(in, m.data, static_cast<unsigned>(want));
-    if (got != want) break;
-    frames().push_back({p.filename().string() + "#" + std::to_string(i), m});
-  }
-  gzclose(in);
+// Set when a frame read ok: the program then exits 1 (the library's errors
+// do not change its exit code).
+bool& any_ok() {
+  static bool b = false;
+  return b;
 }
 
-// Every *.jpg and *.png of a folder: grey, scaled so it covers 640x480,
-// centre-cropped.
-void load_images(const std::string& dir) {
-  std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string ext = e.path().extension().string();
-    if (e.is_regular_file() && (ext == ".jpg" || ext == ".png")) files.push_back(e.path());
-  }
-  std::sort(files.begin(), files.end());
-  for (const fs::path& f : files) {
-    const cv::Mat g = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
-    if (g.empty() || g.cols < 8 || g.rows < 8) continue;
-    const double s =
-        std::max(static_cast<double>(kWidth) / g.cols, static_cast<double>(kHeight) / g.rows);
-    const int w = std::max(kWidth, static_cast<int>(std::ceil(g.cols * s)));
-    const int h = std::max(kHeight, static_cast<int>(std::ceil(g.rows * s)));
-    cv::Mat scaled;
-    cv::resize(g, scaled, {w, h}, 0.0, 0.0, s < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
-    const cv::Rect crop((w - kWidth) / 2, (h - kHeight) / 2, kWidth, kHeight);
-    frames().push_back({f.filename().string(), scaled(crop).clone()});
-  }
+// The corpus loader's frames (testdata/real_corpus.hpp).
+void add_frames(const std::vector<ceilnav::test_support::RealFrame>& corpus) {
+  for (const auto& f : corpus) frames().push_back({f.name, f.grey});
 }
 
 // The device (fast backend) and the host on every frame; per frame the best
 // time over the iterations.
 void BM_PatternRealFrames(benchmark::State& state) {
   if (frames().empty()) {
-    state.SkipWithError("no frames: pass --raw=FILE and/or --images=DIR");
+    state.SkipWithError("no frames");
     return;
   }
   const host::CameraConfig camera = golden::default_camera();
@@ -150,7 +126,10 @@ void BM_PatternRealFrames(benchmark::State& state) {
       std::printf("  %-28s %8.2f ms\n", frames()[i].name.c_str(), best[i]);
     }
   }
-  if (ok > 0) state.SkipWithError("a frame without a pattern read as ok");
+  if (ok > 0) {
+    any_ok() = true;
+    state.SkipWithError("a frame without a pattern read as ok");
+  }
 }
 BENCHMARK(BM_PatternRealFrames)->Unit(benchmark::kMillisecond)->MinTime(3.0);
 
@@ -160,18 +139,23 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   std::vector<char*> rest;
   std::string only;
+  bool chosen = false;
+  namespace ts = ceilnav::test_support;
   for (int i = 0; i < argc; ++i) {
     const char* a = argv[i];
     if (std::strncmp(a, "--raw=", 6) == 0) {
-      load_raw(a + 6);
+      add_frames(ts::cycloid_ceiltrack_frames(a + 6));
+      chosen = true;
     } else if (std::strncmp(a, "--images=", 9) == 0) {
-      load_images(a + 9);
+      add_frames(ts::photo_frames(a + 9, "photos", kWidth, kHeight));
+      chosen = true;
     } else if (std::strncmp(a, "--only=", 7) == 0) {
       only = a + 7;
     } else {
       rest.push_back(argv[i]);
     }
   }
+  if (!chosen) add_frames(ts::load_real_corpus());
   // --only=TEXT keeps the frames whose name contains TEXT (for profiling).
   if (!only.empty()) {
     std::erase_if(frames(), [&](const Frame& f) { return f.name.find(only) == std::string::npos; });
@@ -180,5 +164,5 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(n, rest.data())) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  return 0;
+  return any_ok() ? 1 : 0;
 }
