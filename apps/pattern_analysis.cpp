@@ -1,9 +1,11 @@
 // One pattern frame through the device and the host maths.
 #include "apps/pattern_analysis.hpp"
 
-#include <cstdio>
-#include <cstdlib>
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <vector>
 
 namespace ceilnav::app {
 namespace gp = golden::pattern;
@@ -34,6 +36,54 @@ stream::FrameResults analyse_pass(drivers::Device& device, const cv::Mat& grey,
       gp::disc_coverage_model(radiometry, pose_options.noise_grey, pose_options.psf_sigma_px,
                               pose_options.blur_on_pixels));
   return res;
+}
+
+// The wall's level around the disc: the frame streams with a LUT whose
+// classes are two grey bands of equal width either side of the wall level
+// `w0`, no mask (no runs), and the class window on the disc's bounding box
+// grown to take in the dark rim (1.1 R) but not the bars (from 1.16 R): 1.08
+// x the disc's extent; the
+// class moments' pixel counts in the two bands give the level
+// (hp::level_from_band_counts), again about it while it moves by more than
+// sigma. NaN without a disc or a level. docs/pattern.md.
+double local_wall_level(drivers::Device& device, const cv::Mat& grey,
+                        const gp::Radiometry& radiometry, const hp::ClassMoments& disc, double w0,
+                        double sigma) {
+  if (disc.m00 < 50) return std::numeric_limits<double>::quiet_NaN();
+  const double n = static_cast<double>(disc.m00);
+  const double cx = static_cast<double>(disc.m10) / n, cy = static_cast<double>(disc.m01) / n;
+  const double sx = std::sqrt(std::max(0.0, static_cast<double>(disc.m20) / n - cx * cx));
+  const double sy = std::sqrt(std::max(0.0, static_cast<double>(disc.m02) / n - cy * cy));
+  constexpr double kGrow = 1.08;
+  auto clamp_to = [](double v, int hi) {
+    return static_cast<uint16_t>(std::clamp(static_cast<int>(std::lround(v)), 0, hi));
+  };
+  stream::PipelineConfig cfg = gp::device_config(grey.cols, grey.rows, radiometry);
+  cfg.class_window = {
+      clamp_to(cx - 2.0 * kGrow * sx, grey.cols), clamp_to(cx + 2.0 * kGrow * sx + 1.0, grey.cols),
+      clamp_to(cy - 2.0 * kGrow * sy, grey.rows), clamp_to(cy + 2.0 * kGrow * sy + 1.0, grey.rows)};
+  const int delta = std::max(2, static_cast<int>(std::lround(2.5 * sigma)));
+  double level = std::numeric_limits<double>::quiet_NaN();
+  for (int pass = 0; pass < 3; ++pass) {
+    const int mid = std::clamp(static_cast<int>(std::lround(w0)), delta, 255 - delta);
+    for (int g = 0; g < 256; ++g) {
+      uint8_t cls = stream::kClassBackground;
+      if (g >= mid - delta && g < mid) cls = stream::kClassShadow;
+      if (g >= mid && g < mid + delta) cls = stream::kClassBar;
+      cfg.lut[static_cast<std::size_t>(g)] = stream::lut_entry(0, false, cls);
+    }
+    std::vector<stream::RunRecord> runs;
+    uint64_t cycles = 0;
+    const stream::FrameResults res = device.process(grey, cfg, runs, cycles);
+    if (!res.valid) return std::numeric_limits<double>::quiet_NaN();
+    level = hp::level_from_band_counts(
+        static_cast<double>(res.class_moments.of(stream::kClassShadow)[stream::kM00]),
+        static_cast<double>(res.class_moments.of(stream::kClassBar)[stream::kM00]), mid - delta,
+        mid, mid + delta, sigma);
+    if (!std::isfinite(level) || std::abs(level - mid) <= sigma) break;
+    w0 = level;
+  }
+  return level;
 }
 
 void mark_uncalibrated(PatternFrameAnalysis& a) {
@@ -67,8 +117,7 @@ PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Ma
                                            const hp::PoseOptions& pose_options,
                                            bool self_calibrate) {
   PatternFrameAnalysis a;
-  const stream::FrameResults first =
-      analyse_pass(device, grey, radiometry, model, pose_options, a);
+  const stream::FrameResults first = analyse_pass(device, grey, radiometry, model, pose_options, a);
   if (!self_calibrate) return a;
   const gp::Radiometry nominal = radiometry;
   hp::PatternAlbedos albedos;
@@ -76,12 +125,15 @@ PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Ma
   albedos.wall = nominal.albedo_wall;
   albedos.shadow = nominal.albedo_shadow;
   albedos.disc = nominal.albedo_disc;
-  hp::PhotometricCalibration cal = hp::calibrate_photometry(
-      first.histogram.bins, albedos, photometry_options_for(nominal, pose_options.noise_grey));
-  if (std::getenv("CEILNAV_PHOTO_DEBUG")) {
-    std::fprintf(stderr, "cal %s black %.2f scale %.2f disc %.1f bar %.1f wall %.1f shadow %.1f clip %d%d it %d\n",
-                 hp::to_string(cal.status).c_str(), cal.black, cal.scale, cal.disc_grey, cal.bar_grey,
-                 cal.wall_grey, cal.shadow_grey, cal.disc_clipped, cal.bar_clipped, cal.iterations);
+  const hp::PhotometryOptions po = photometry_options_for(nominal, pose_options.noise_grey);
+  hp::PhotometricCalibration cal = hp::calibrate_photometry(first.histogram.bins, albedos, po);
+  if (cal.disc_clipped || cal.bar_clipped) {
+    // The estimate leans on the wall's level: take it around the disc.
+    const double sigma = std::max(0.5, pose_options.noise_grey);
+    const double wall = local_wall_level(device, grey, nominal, a.moments[hp::kDisc],
+                                         cal.level(albedos.wall), sigma);
+    if (std::isfinite(wall))
+      cal = hp::calibrate_photometry(first.histogram.bins, albedos, po, wall);
   }
   if (cal.status == hp::PhotometryStatus::no_disc) {
     a.photometry = cal;

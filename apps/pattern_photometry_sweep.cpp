@@ -1,9 +1,9 @@
 // `ceilnav pattern-accuracy --photometric-sweep`: the study under camera
 // gains, offsets and vignetting the host is not told (it calibrates each
 // frame from its histogram; docs/pattern.md §2 and §4).
+#include <fmt/core.h>
 #include <cmath>
 #include <cstdio>
-#include <fmt/core.h>
 
 #include "apps/pattern_accuracy.hpp"
 

@@ -15,7 +15,8 @@ using Histogram = std::array<uint32_t, kBins>;
 
 double count(const Histogram& h, int lo, int hi) {
   double n = 0.0;
-  for (int g = std::max(lo, 0); g <= std::min(hi, kBins - 1); ++g) n += h[static_cast<std::size_t>(g)];
+  for (int g = std::max(lo, 0); g <= std::min(hi, kBins - 1); ++g)
+    n += h[static_cast<std::size_t>(g)];
   return n;
 }
 
@@ -76,22 +77,22 @@ double below(const Histogram& h, double x) {
 }
 
 // The level of the darkest class from its lower half only: for cores normal
-// about the level b, F(b - sigma) = Phi(-1) / Phi(0) F(b) with F the count
+// about the level b, F(b - z sigma) = Phi(-z) / Phi(0) F(b) with F the count
 // below (the partly inked pixels, lighter than the cores, leave F below b
 // nearly untouched; the pixels the camera clips to 0 lie below b - sigma and
-// count as they should while b - sigma >= 1/2). F(x - sigma) / F(x) rises
-// with x through the cores' lower half: b is where it reaches the ratio,
-// scanned from 1/2 + sigma up. NaN when it is reached at the start (the
+// count as they should while b - z sigma >= 1/2). F(x - z sigma) / F(x)
+// rises with x through the cores' lower half: b is where it reaches the
+// ratio, scanned from 1/2 + z sigma up. NaN when it is reached at the start (the
 // level lies under 1/2 + sigma: clipped), not below `limit`, or with fewer
 // than min_cores pixels below it (2 F(b): the cores).
-double dark_level(const Histogram& h, double sigma, double limit, double min_cores) {
-  const double ratio = 0.5 * std::erfc(1.0 / std::sqrt(2.0)) / 0.5;  // Phi(-1) / Phi(0)
+double dark_level(const Histogram& h, double sigma, double limit, double min_cores, double z) {
+  const double ratio = 0.5 * std::erfc(z / std::sqrt(2.0)) / 0.5;  // Phi(-z) / Phi(0)
   constexpr double kStep = 0.05;
   bool first = true;
-  for (double x = 0.5 + sigma; x < limit; x += kStep) {
+  for (double x = 0.5 + z * sigma; x < limit; x += kStep) {
     const double f = below(h, x);
     if (!(f > 0.0)) continue;
-    if (below(h, x - sigma) >= ratio * f) {
+    if (below(h, x - z * sigma) >= ratio * f) {
       if (first || 2.0 * f < min_cores) return kNaN;
       return x;
     }
@@ -135,8 +136,28 @@ std::string to_string(PhotometryStatus s) {
   return "unknown";
 }
 
+double level_from_band_counts(double n_low, double n_high, int lo, int mid, int hi, double sigma) {
+  if (!(n_low > 0.0) || !(n_high > 0.0) || !(lo < mid && mid < hi) || !(sigma > 0.0)) return kNaN;
+  auto phi = [&](double x, double mu) {
+    return 0.5 * std::erfc(-(x - mu) / (sigma * std::sqrt(2.0)));
+  };
+  auto ratio = [&](double mu) {
+    const double p_lo = phi(mid - 0.5, mu) - phi(lo - 0.5, mu);
+    const double p_hi = phi(hi - 0.5, mu) - phi(mid - 0.5, mu);
+    return p_hi / p_lo;
+  };
+  const double target = n_high / n_low;
+  double a = lo - 4.0 * sigma, b = hi + 4.0 * sigma;
+  if (!(ratio(a) < target && ratio(b) > target)) return kNaN;
+  for (int i = 0; i < 60; ++i) {
+    const double m = 0.5 * (a + b);
+    (ratio(m) < target ? a : b) = m;
+  }
+  return 0.5 * (a + b);
+}
+
 PhotometricCalibration calibrate_photometry(const Histogram& h, const PatternAlbedos& a,
-                                            const PhotometryOptions& o) {
+                                            const PhotometryOptions& o, double local_wall_grey) {
   PhotometricCalibration c;
   c.black = o.nominal_black;
   c.scale = o.nominal_scale;
@@ -158,11 +179,22 @@ PhotometricCalibration calibrate_photometry(const Histogram& h, const PatternAlb
     }
     c.disc_clipped = h[255] > 0.35 * n_disc;
     c.disc_grey = c.disc_clipped ? kNaN : quantile(h, t.pattern_from, 255, 0.5);
-    c.bar_grey = dark_level(h, sigma, t.bar_below, o.min_bar_pixels);
+    // Searched up to the wall's noise, not only in the bar class: a level
+    // the start's split puts at the class's edge is found all the same.
+    const double wall_now = c.black + c.scale * a.wall;
+    const double limit = std::max<double>(t.bar_below, wall_now - 2.5 * sigma);
+    c.bar_grey = dark_level(h, sigma, limit, o.min_bar_pixels, 1.0);
+    // Deeper in the tail (z = 2, where the level allows): the partly inked
+    // pixels weigh less there. Where the two disagree by more than sigma / 2
+    // the dark pixels are not a level with its noise (bars under two pixels
+    // wide: no cores) and the bars give no level.
+    const double deep = dark_level(h, sigma, limit, o.min_bar_pixels, 2.0);
+    if (std::isfinite(deep)) {
+      c.bar_grey = std::abs(deep - c.bar_grey) <= 0.5 * sigma ? deep : kNaN;
+    }
     c.bar_clipped = !std::isfinite(c.bar_grey);
-    c.wall_grey = mode(h, t.bar_below, t.shadow_from - 1, sigma);
-    const bool shadow_seen = count(h, t.shadow_from, t.pattern_from - 1) >= o.min_shadow_pixels;
-    c.shadow_grey = shadow_seen ? mode(h, t.shadow_from, t.pattern_from - 1, sigma) : kNaN;
+    c.wall_grey =
+        local_wall_grey >= 0.0 ? local_wall_grey : mode(h, t.bar_below, t.shadow_from - 1, sigma);
 
     double black = 0.0, scale = 0.0;
     if (!c.disc_clipped && !c.bar_clipped) {  // the two local levels
@@ -174,10 +206,7 @@ PhotometricCalibration calibrate_photometry(const Histogram& h, const PatternAlb
     } else if (!c.bar_clipped) {  // disc clipped: the bars and the wall
       scale = (c.wall_grey - c.bar_grey) / (a.wall - a.bar);
       black = c.bar_grey - scale * a.bar;
-    } else if (shadow_seen) {  // both clipped: the wall and the disc's side wall
-      scale = (c.shadow_grey - c.wall_grey) / (a.shadow - a.wall);
-      black = c.wall_grey - scale * a.wall;
-    } else {
+    } else {  // both clipped: the wall alone cannot give two unknowns
       c.status = PhotometryStatus::clipped;
       return c;
     }

@@ -35,16 +35,16 @@ struct PhotometryOptions {
   // Least bar/wall contrast in noise sigmas: below it the bars' ink, the
   // bar class and the wall's level are not told apart reliably.
   double min_bar_contrast_sigmas = 8.0;
-  int min_disc_pixels = 50, min_bar_pixels = 30, min_shadow_pixels = 200;
+  int min_disc_pixels = 50, min_bar_pixels = 30;
 };
 
 enum class PhotometryStatus {
   ok,
-  no_disc,          // too few pixels brighter than the wall: nothing to calibrate on
-  clipped,          // bars and disc both clipped and no side wall in sight: one level only
-  out_of_range,     // gain or offset beyond the calibrated range
-  low_contrast,     // bar/wall contrast under min_bar_contrast_sigmas
-  not_converged,    // the class split did not settle
+  no_disc,        // too few pixels brighter than the wall: nothing to calibrate on
+  clipped,        // bars and disc both clipped: the wall's level alone, one equation
+  out_of_range,   // gain or offset beyond the calibrated range
+  low_contrast,   // bar/wall contrast under min_bar_contrast_sigmas
+  not_converged,  // the class split did not settle
 };
 std::string to_string(PhotometryStatus s);
 
@@ -52,7 +52,7 @@ struct PhotometricCalibration {
   PhotometryStatus status = PhotometryStatus::no_disc;
   double black = 0.0, scale = 0.0;  // level(albedo) = black + scale * albedo
   // What the histogram gave (NaN where not measured or clipped).
-  double disc_grey = 0.0, bar_grey = 0.0, wall_grey = 0.0, shadow_grey = 0.0;
+  double disc_grey = 0.0, bar_grey = 0.0, wall_grey = 0.0;
   bool disc_clipped = false, bar_clipped = false;
   int iterations = 0;
   bool ok() const { return status == PhotometryStatus::ok; }
@@ -62,9 +62,21 @@ struct PhotometricCalibration {
   double offset(const PhotometryOptions& o) const { return black - o.nominal_black; }
 };
 
-// The calibration from the histogram of camera grey (docs/pattern.md).
+// The calibration from the histogram of camera grey (docs/pattern.md). The
+// wall's level, needed where the bars or the disc are clipped, is
+// local_wall_grey when given (level_from_band_counts around the disc), else
+// the mode of the histogram's wall class (the whole frame's wall: darker
+// toward the image's corners by the lamp's falloff and the vignetting).
 PhotometricCalibration calibrate_photometry(const std::array<uint32_t, 256>& histogram,
                                             const PatternAlbedos& albedos,
-                                            const PhotometryOptions& options);
+                                            const PhotometryOptions& options,
+                                            double local_wall_grey = -1.0);
+
+// The mean of a normal population of pixels (sigma: the camera noise) from
+// its counts in two adjacent grey bands [lo, mid) and [mid, hi) of the
+// camera's integer greys (a true grey rounds to the nearest): the mean whose
+// band probabilities have the counts' ratio (bisection; monotone). NaN when
+// either count is zero.
+double level_from_band_counts(double n_low, double n_high, int lo, int mid, int hi, double sigma);
 
 }  // namespace ceilnav::host::pattern
