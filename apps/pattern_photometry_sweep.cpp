@@ -5,11 +5,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "apps/commands.hpp"
 #include "apps/pattern_accuracy.hpp"
 
 namespace ceilnav::app {
 
-PhotometricSweepRow summarise_photometric_row(const std::vector<PatternAccuracyRow>& rows) {
+PhotometricSweepRow summarise_photometric_row(const std::vector<PatternAccuracyRow>& rows,
+                                              double radius_m) {
   PhotometricSweepRow s;
   int theta_n = 0;
   for (const PatternAccuracyRow& r : rows) {
@@ -28,7 +30,12 @@ PhotometricSweepRow summarise_photometric_row(const std::vector<PatternAccuracyR
     if (!r.reported_ok) continue;
     ++s.reported_ok;
     if (de > 0.3 || (r.theta >= 15.0 && te > 0.3)) ++s.wrong_ok;
-    if (std::isfinite(r.beta_err)) s.beta_max = std::max(s.beta_max, std::abs(r.beta_err));
+    // beta where the study scores it (theta >= 15, D sin(theta) >= 1.5 R);
+    // nearer the axis it hardly moves the position.
+    if (std::isfinite(r.beta_err) && r.theta >= 15.0 &&
+        r.d * std::sin(r.theta * kDeg) >= 1.5 * radius_m) {
+      s.beta_max = std::max(s.beta_max, std::abs(r.beta_err));
+    }
     s.pos_max = std::max(s.pos_max, r.pos_err);
   }
   if (s.posed > 0) s.d_rms = std::sqrt(s.d_rms / s.posed);
@@ -69,7 +76,8 @@ int run_photometric_sweep(const PatternAccuracyOptions& o, const host::CameraCon
     q.gain = s.gain;
     q.offset_grey = s.offset;
     q.vignetting = s.vignetting;
-    const PhotometricSweepRow r = summarise_photometric_row(measure_pattern_accuracy(q, camera, g));
+    const PhotometricSweepRow r =
+        summarise_photometric_row(measure_pattern_accuracy(q, camera, g), g.radius_m);
     wrong += r.wrong_ok;
     fmt::print(
         "{:5.2f} {:+7.1f} {:5.0f}% | {:8.3f} {:8.3f} | {:9.3f} {:9.3f} | {:8.2f} {:8.4f} | "

@@ -190,7 +190,7 @@ PhotometricCalibration calibrate_photometry(const Histogram& h, const PatternAlb
     // wide: no cores) and the bars give no level.
     const double deep = dark_level(h, sigma, limit, o.min_bar_pixels, 2.0);
     if (std::isfinite(deep)) {
-      c.bar_grey = std::abs(deep - c.bar_grey) <= 0.5 * sigma ? deep : kNaN;
+      c.bar_grey = std::abs(deep - c.bar_grey) <= 0.25 * sigma ? deep : kNaN;
     }
     c.bar_clipped = !std::isfinite(c.bar_grey);
     c.wall_grey =
