@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <vector>
 
@@ -125,7 +126,8 @@ PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Ma
   albedos.wall = nominal.albedo_wall;
   albedos.shadow = nominal.albedo_shadow;
   albedos.disc = nominal.albedo_disc;
-  const hp::PhotometryOptions po = photometry_options_for(nominal, pose_options.noise_grey);
+  hp::PhotometryOptions po = photometry_options_for(nominal, pose_options.noise_grey);
+  po.disc_radius_px = std::sqrt(static_cast<double>(a.moments[hp::kDisc].m00) / std::numbers::pi);
   hp::PhotometricCalibration cal = hp::calibrate_photometry(first.histogram.bins, albedos, po);
   if (cal.disc_clipped || cal.bar_clipped) {
     // The estimate leans on the wall's level: take it around the disc.

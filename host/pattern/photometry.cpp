@@ -130,6 +130,8 @@ std::string to_string(PhotometryStatus s) {
       return "out_of_range";
     case PhotometryStatus::low_contrast:
       return "low_contrast";
+    case PhotometryStatus::imprecise:
+      return "imprecise";
     case PhotometryStatus::not_converged:
       return "not_converged";
   }
@@ -228,6 +230,10 @@ PhotometricCalibration calibrate_photometry(const Histogram& h, const PatternAlb
     c.status = PhotometryStatus::out_of_range;
   } else if (c.scale * (a.wall - a.bar) < o.min_bar_contrast_sigmas * sigma) {
     c.status = PhotometryStatus::low_contrast;
+  } else if (c.disc_clipped && o.disc_radius_px > 0.0 &&
+             o.edge_px_per_contrast * o.level_error_grey / (c.scale * (a.wall - a.bar)) >
+                 o.max_radius_error * o.disc_radius_px) {
+    c.status = PhotometryStatus::imprecise;
   } else {
     c.status = PhotometryStatus::ok;
   }

@@ -35,6 +35,17 @@ struct PhotometryOptions {
   // Least bar/wall contrast in noise sigmas: below it the bars' ink, the
   // bar class and the wall's level are not told apart reliably.
   double min_bar_contrast_sigmas = 8.0;
+  // A clipped disc leaves its contrast to the bars' and the wall's levels,
+  // wall - bar = scale * albedo_wall, which the coverage LUT magnifies
+  // (a_disc - a_wall) / a_wall = 4.4 times. Their error (the bars' level
+  // read from cores the blur mixes with the plate, the wall's from the rim
+  // and the recessed wall: up to level_error_grey together) moves the disc's
+  // outline by edge_px_per_contrast times the relative contrast error (every
+  // partly covered pixel's weight scales with it; measured on the study's
+  // frames: 2.6 px); where that exceeds max_radius_error of the disc's radius
+  // (disc_radius_px, from the class moments) the frame is refused.
+  double level_error_grey = 1.2, edge_px_per_contrast = 2.6, max_radius_error = 0.002;
+  double disc_radius_px = 0.0;  // 0: not known, not checked
   int min_disc_pixels = 50, min_bar_pixels = 30;
 };
 
@@ -44,6 +55,7 @@ enum class PhotometryStatus {
   clipped,        // bars and disc both clipped: the wall's level alone, one equation
   out_of_range,   // gain or offset beyond the calibrated range
   low_contrast,   // bar/wall contrast under min_bar_contrast_sigmas
+  imprecise,      // the disc clipped and too small for its contrast's precision
   not_converged,  // the class split did not settle
 };
 std::string to_string(PhotometryStatus s);
