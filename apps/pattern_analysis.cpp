@@ -129,8 +129,8 @@ PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Ma
   hp::PhotometryOptions po = photometry_options_for(nominal, pose_options.noise_grey);
   po.disc_radius_px = std::sqrt(static_cast<double>(a.moments[hp::kDisc].m00) / std::numbers::pi);
   hp::PhotometricCalibration cal = hp::calibrate_photometry(first.histogram.bins, albedos, po);
-  if (cal.disc_clipped || cal.bar_clipped) {
-    // The estimate leans on the wall's level: take it around the disc.
+  if (cal.status != hp::PhotometryStatus::no_disc) {
+    // The wall's level around the disc (its edge lies between the two).
     const double sigma = std::max(0.5, pose_options.noise_grey);
     const double wall = local_wall_level(device, grey, nominal, a.moments[hp::kDisc],
                                          cal.level(albedos.wall), sigma);

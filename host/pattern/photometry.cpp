@@ -199,12 +199,15 @@ PhotometricCalibration calibrate_photometry(const Histogram& h, const PatternAlb
         local_wall_grey >= 0.0 ? local_wall_grey : mode(h, t.bar_below, t.shadow_from - 1, sigma);
 
     double black = 0.0, scale = 0.0;
-    if (!c.disc_clipped && !c.bar_clipped) {  // the two local levels
-      black = c.bar_grey;
-      scale = (c.disc_grey - black) / (a.disc - a.bar);
-    } else if (!c.disc_clipped) {  // bars clipped: the disc and the wall
+    const bool local_wall = local_wall_grey >= 0.0;
+    if (!c.disc_clipped && (c.bar_clipped || local_wall)) {
+      // The disc and the wall around it: the two levels its edge lies
+      // between, measured where it is.
       scale = (c.disc_grey - c.wall_grey) / (a.disc - a.wall);
       black = c.disc_grey - scale * a.disc;
+    } else if (!c.disc_clipped) {  // the disc and the bars (no wall measured there)
+      black = c.bar_grey;
+      scale = (c.disc_grey - black) / (a.disc - a.bar);
     } else if (!c.bar_clipped) {  // disc clipped: the bars and the wall
       scale = (c.wall_grey - c.bar_grey) / (a.wall - a.bar);
       black = c.bar_grey - scale * a.bar;

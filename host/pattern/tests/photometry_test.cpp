@@ -86,6 +86,12 @@ TEST(Photometry, GainAndOffsetWithinTheRangeAreFound) {
     EXPECT_EQ(c.bar_clipped, k.bar_clipped) << k.gain << " " << k.offset;
     EXPECT_NEAR(c.gain(o), k.gain, 0.012) << k.gain << " " << k.offset;
     EXPECT_NEAR(c.offset(o), k.offset, 1.0) << k.gain << " " << k.offset;
+    if (k.disc_clipped) continue;
+    // With the wall measured around the disc: the disc and that wall.
+    const PhotometricCalibration w = calibrate_photometry(frame_histogram(cam), {}, o, wall);
+    ASSERT_TRUE(w.ok()) << k.gain << " " << k.offset << ": " << to_string(w.status);
+    EXPECT_NEAR(w.gain(o), k.gain, 0.012) << k.gain << " " << k.offset;
+    EXPECT_NEAR(w.offset(o), k.offset, 1.0) << k.gain << " " << k.offset;
   }
 }
 
