@@ -46,7 +46,8 @@ stream::FrameResults analyse_pass(drivers::Device& device, const cv::Mat& grey,
 // x the disc's extent; the
 // class moments' pixel counts in the two bands give the level
 // (hp::level_from_band_counts), again about it while it moves by more than
-// sigma. NaN without a disc or a level. docs/pattern.md.
+// sigma. NaN without a disc or a level, or with one more than 5 grey + 3
+// sigma from w0. docs/pattern.md.
 double local_wall_level(drivers::Device& device, const cv::Mat& grey,
                         const gp::Radiometry& radiometry, const hp::ClassMoments& disc, double w0,
                         double sigma) {
@@ -64,6 +65,10 @@ double local_wall_level(drivers::Device& device, const cv::Mat& grey,
       clamp_to(cx - 2.0 * kGrow * sx, grey.cols), clamp_to(cx + 2.0 * kGrow * sx + 1.0, grey.cols),
       clamp_to(cy - 2.0 * kGrow * sy, grey.rows), clamp_to(cy + 2.0 * kGrow * sy + 1.0, grey.rows)};
   const int delta = std::max(2, static_cast<int>(std::lround(2.5 * sigma)));
+  // The histogram's wall, where w0 comes from, reads at most 5 grey low
+  // (20 % vignetting, §2); a level farther off than that and the noise is
+  // another population (the side wall at a steep view), not the wall.
+  const double start = w0, reach = 5.0 + 3.0 * sigma;
   double level = std::numeric_limits<double>::quiet_NaN();
   for (int pass = 0; pass < 3; ++pass) {
     const int mid = std::clamp(static_cast<int>(std::lround(w0)), delta, 255 - delta);
@@ -81,7 +86,10 @@ double local_wall_level(drivers::Device& device, const cv::Mat& grey,
         static_cast<double>(res.class_moments.of(stream::kClassShadow)[stream::kM00]),
         static_cast<double>(res.class_moments.of(stream::kClassBar)[stream::kM00]), mid - delta,
         mid, mid + delta, sigma);
-    if (!std::isfinite(level) || std::abs(level - mid) <= sigma) break;
+    if (!std::isfinite(level) || std::abs(level - start) > reach) {
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    if (std::abs(level - mid) <= sigma) break;
     w0 = level;
   }
   return level;
@@ -137,7 +145,8 @@ PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Ma
     if (std::isfinite(wall))
       cal = hp::calibrate_photometry(first.histogram.bins, albedos, po, wall);
   }
-  if (cal.status == hp::PhotometryStatus::no_disc) {
+  if (cal.status == hp::PhotometryStatus::no_disc &&
+      a.moments[hp::kDisc].m00 < pose_options.min_disc_pixels) {
     a.photometry = cal;
     return a;  // nothing brighter than the wall: no pose either way
   }

@@ -33,7 +33,8 @@ struct PatternFrameAnalysis : host::pattern::PatternAnalysis {
 // gives the histogram the host calibrates the levels from
 // (host::pattern::calibrate_photometry); the frame then streams again with
 // the LUT and the coverage model of the calibrated levels. A frame whose
-// calibration fails while it shows a disc gets status `uncalibrated` on every
+// calibration fails while it shows a disc (to the first pass's class
+// moments or to the calibration) gets status `uncalibrated` on every
 // pose and on an ok code (never a pose with ok); one without a disc keeps the
 // first pass's analysis (no pattern, or the bars alone).
 PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Mat& grey,

@@ -132,6 +132,8 @@ std::string to_string(PhotometryStatus s) {
       return "low_contrast";
     case PhotometryStatus::imprecise:
       return "imprecise";
+    case PhotometryStatus::inconsistent:
+      return "inconsistent";
     case PhotometryStatus::not_converged:
       return "not_converged";
   }
@@ -229,7 +231,18 @@ PhotometricCalibration calibrate_photometry(const Histogram& h, const PatternAlb
     return c;
   }
   const double gain = c.gain(o), offset = c.offset(o);
-  if (!(gain >= o.min_gain && gain <= o.max_gain) || !(std::abs(offset) <= o.max_offset_grey)) {
+  // The wall's albedo covers more of any view of the pattern than the bars'
+  // ink (the plates, the gaps and the rim alone are most of the ink's area,
+  // and the wall panel surrounds them): a split that gives the bar class
+  // more pixels than the wall class took a darker wall for the bars (and,
+  // at a steep view, the side wall for the wall).
+  const Split fin = split(c.black, c.scale, a);
+  const bool consistent =
+      count(h, fin.bar_below, fin.shadow_from - 1) >= count(h, 0, fin.bar_below - 1);
+  if (!consistent) {
+    c.status = PhotometryStatus::inconsistent;
+  } else if (!(gain >= o.min_gain && gain <= o.max_gain) ||
+             !(std::abs(offset) <= o.max_offset_grey)) {
     c.status = PhotometryStatus::out_of_range;
   } else if (c.scale * (a.wall - a.bar) < o.min_bar_contrast_sigmas * sigma) {
     c.status = PhotometryStatus::low_contrast;

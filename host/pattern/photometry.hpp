@@ -56,6 +56,7 @@ enum class PhotometryStatus {
   out_of_range,   // gain or offset beyond the calibrated range
   low_contrast,   // bar/wall contrast under min_bar_contrast_sigmas
   imprecise,      // the disc clipped and too small for its contrast's precision
+  inconsistent,   // the levels put more pixels in the bar class than in the wall's
   not_converged,  // the class split did not settle
 };
 std::string to_string(PhotometryStatus s);
