@@ -97,6 +97,11 @@ TEST(PatternPhotometry, BeyondTheRangeIsNeverOk) {
       EXPECT_FALSE(r.ok) << c.gain << " " << c.offset_grey;
     }
   }
+  // Offset -40 at a steep near view: the wall near black and the side wall
+  // large, which a wrong split takes for the wall (refused as inconsistent).
+  const Result steep = analyse({1.0, 60.0, 90.0, 48}, {1.0, -40.0, 0.0}, 200);
+  EXPECT_FALSE(steep.cal.ok()) << hp::to_string(steep.cal.status);
+  EXPECT_FALSE(steep.ok);
 }
 
 TEST(PatternPhotometry, RendererAppliesGainOffsetAndVignetting) {
