@@ -348,11 +348,41 @@ CLI::App* add_pattern_accuracy_command(CLI::App& app, PatternAccuracyOptions& pa
   pacc_cmd->add_option("--backend", pacc.backend, "fast, model or rtl (as for pattern)")
       ->check(CLI::IsMember({"fast", "model", "rtl"}))
       ->capture_default_str();
-  pacc_cmd->add_option("--csv", pacc.csv, "Per-frame errors to this CSV");
-  pacc_cmd->add_option(
+  auto* csv_opt = pacc_cmd->add_option("--csv", pacc.csv, "Per-frame errors to this CSV");
+  auto* plot_opt = pacc_cmd->add_option(
       "--plot", pacc.plot,
       "PNG of the error curves beside the seed's tables, drawn by gnuplot (its .dat and .gp "
       "beside it)");
+  auto* gain_opt =
+      pacc_cmd
+          ->add_option("--gain", pacc.gain,
+                       "Camera gain rendered, not told to the host (it self-calibrates)")
+          ->check(CLI::Range(0.05, 4.0))
+          ->capture_default_str();
+  auto* offset_opt = pacc_cmd
+                         ->add_option("--offset", pacc.offset_grey,
+                                      "Camera offset rendered (grey levels), not told to the host")
+                         ->check(CLI::Range(-100.0, 100.0))
+                         ->capture_default_str();
+  auto* vignetting_opt =
+      pacc_cmd
+          ->add_option("--vignetting", pacc.vignetting,
+                       "Camera vignetting rendered: fraction lost at the image corner, quadratic "
+                       "in the radius")
+          ->check(CLI::Range(0.0, 0.9))
+          ->capture_default_str();
+  pacc_cmd->add_flag("!--no-photometric-calibration", pacc.self_calibrate,
+                     "The host takes the nominal grey levels instead of calibrating each frame");
+  pacc_cmd
+      ->add_flag("--photometric-sweep", pacc.photometric_sweep,
+                 "The table of gain 0.8-1.2 x offset -15, 0, +15 x vignetting 0, 20 % and "
+                 "settings beyond the calibrated range (--require: exit 1 if any frame is "
+                 "reported ok with a pose off the bars)")
+      ->excludes(csv_opt)
+      ->excludes(plot_opt)
+      ->excludes(gain_opt)
+      ->excludes(offset_opt)
+      ->excludes(vignetting_opt);
   pacc_cmd->add_flag("--require", pacc.require,
                      "Exit 1 unless D error <= 0.3 %, theta error <= 0.3 deg (theta >= 15) "
                      "for the conic method and every visible code is read, none wrongly");

@@ -3,6 +3,7 @@
 #include "apps/pattern_accuracy.hpp"
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "apps/atomic_file.hpp"
@@ -45,6 +46,7 @@ std::vector<PatternAccuracyRow> measure_pattern_accuracy(const PatternAccuracyOp
         p.blur_sigma_px = o.blur_sigma;
         p.noise_seed = o.seed * 1000003U + frame_seed++;
         p.supersample = o.supersample;
+        p.photometry = {o.gain, o.offset_grey, o.vignetting};
         const cv::Mat grey = gp::render_pattern(camera, geometry, radiometry, r.identity, v, p);
         const gp::PatternTruth t = gp::pattern_truth(camera, geometry, r.identity, v);
         hp::PoseOptions po = pose_options_for(geometry);
@@ -52,7 +54,8 @@ std::vector<PatternAccuracyRow> measure_pattern_accuracy(const PatternAccuracyOp
         // The camera's blur and noise (calibrated, not per frame).
         po.psf_sigma_px = o.calib_blur_sigma >= 0.0 ? o.calib_blur_sigma : o.blur_sigma;
         po.noise_grey = o.calib_noise_sigma >= 0.0 ? o.calib_noise_sigma : o.noise_sigma;
-        const PatternFrameAnalysis a = analyse_pattern_frame(device, grey, radiometry, model, po);
+        const PatternFrameAnalysis a =
+            analyse_pattern_frame(device, grey, radiometry, model, po, o.self_calibrate);
         const hp::PatternPose* poses[4] = {&a.projection, &a.moment, &a.conic, &a.conic_bars};
         for (int m = 0; m < 4; ++m) {
           const hp::PatternPose& q = *poses[m];
@@ -68,6 +71,13 @@ std::vector<PatternAccuracyRow> measure_pattern_accuracy(const PatternAccuracyOp
         r.bar_px = t.min_bar_width_px;
         r.read = a.code.identity;
         r.code_status = std::string(hp::to_string(a.code.status));
+        const hp::PatternPose& q = a.conic_bars;
+        r.beta_err = q.beta_resolved ? std::remainder(q.beta_rad / kDeg - r.beta, 360.0)
+                                     : std::numeric_limits<double>::quiet_NaN();
+        r.pos_err = (gp::spherical_position(q.d_m, q.theta_rad, q.beta_rad) -
+                     gp::spherical_position(d, th * kDeg, r.beta * kDeg))
+                        .norm();
+        r.reported_ok = q.status == hp::PatternStatus::ok && a.code.status == hp::PatternStatus::ok;
         rows.push_back(r);
         ++frame;
       }
@@ -82,6 +92,7 @@ int run_pattern_accuracy(const PatternAccuracyOptions& o) {
   if (!o.plot.empty()) check_writable(o.plot);
   const host::CameraConfig camera = scaled_camera(o.width, o.height, o.distortion);
   const gp::PatternGeometry geometry;
+  if (o.photometric_sweep) return run_photometric_sweep(o, camera, geometry);
   const std::vector<PatternAccuracyRow> rows = measure_pattern_accuracy(o, camera, geometry);
   const PatternAccuracyStats st = summarise_pattern_accuracy(rows, geometry.radius_m);
   print_pattern_accuracy(o, rows.size(), st);

@@ -30,6 +30,11 @@ struct PatternAccuracyRow {
   double bar_px;
   int identity, read;
   std::string code_status;
+  // conic+bars: beta error (deg, where resolved; else NaN), camera position
+  // error in the pattern frame (m); the frame as `ceilnav pattern` would
+  // report it: code read and pose ok (reported_ok).
+  double beta_err, pos_err;
+  bool reported_ok;
 };
 
 // Renders and measures every frame of the study: D in {1, 1.5, 2, 3, 4, 5} m,
@@ -60,6 +65,25 @@ struct PatternAccuracyStats {
 };
 PatternAccuracyStats summarise_pattern_accuracy(const std::vector<PatternAccuracyRow>& rows,
                                                 double radius_m);
+
+// One row of the photometric sweep (docs/pattern.md): the camera's gain,
+// offset and vignetting, and over the frames with a conic+bars pose the max
+// and RMS of the D error (%) and of the theta error (deg, theta >= 15), the
+// max beta error (deg, where resolved with theta >= 15 and D sin(theta) >=
+// 1.5 R, as the study scores beta) and position error (m), the fraction
+// of frames reported ok, and the frames reported ok with a D error over
+// 0.3 % or a theta error (theta >= 15) over 0.3 deg.
+struct PhotometricSweepRow {
+  double gain = 1.0, offset = 0.0, vignetting = 0.0;
+  int frames = 0, posed = 0, reported_ok = 0, wrong_ok = 0;
+  double d_max = 0, d_rms = 0, theta_max = 0, theta_rms = 0, beta_max = 0, pos_max = 0;
+};
+PhotometricSweepRow summarise_photometric_row(const std::vector<PatternAccuracyRow>& rows,
+                                              double radius_m);
+// The sweep: gain 0.8 .. 1.2 x offset -15, 0, +15 x vignetting 0, 20 %, then
+// rows beyond the calibrated range; printed as a table.
+int run_photometric_sweep(const PatternAccuracyOptions& o, const host::CameraConfig& camera,
+                          const golden::pattern::PatternGeometry& g);
 
 // The tables and the verdict on stdout.
 void print_pattern_accuracy(const PatternAccuracyOptions& o, size_t frames,

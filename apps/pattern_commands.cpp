@@ -120,7 +120,10 @@ FixRow make_fix(const PatternFrameAnalysis& a, const gp::PatternDatabase& db,
   const hp::PatternPose& p = a.conic_bars;  // the conic pose refined with the bar centres
   const bool pose_ok =
       p.status == hp::PatternStatus::ok || p.status == hp::PatternStatus::ambiguous;
-  if (p.status == hp::PatternStatus::no_pattern && a.code.status == hp::PatternStatus::no_pattern) {
+  if (p.status == hp::PatternStatus::uncalibrated) {
+    r.status = "uncalibrated";  // the frame's photometry failed its calibration
+  } else if (p.status == hp::PatternStatus::no_pattern &&
+             a.code.status == hp::PatternStatus::no_pattern) {
     r.status = "no_pattern";
   } else if (a.code.status == hp::PatternStatus::unreadable) {
     r.status = "unreadable";

@@ -39,6 +39,12 @@ struct PatternAccuracyOptions {
   std::string plot;              // PNG of the error curves, optional
   bool require = false;          // exit 1 unless the bars hold (docs/pattern.md)
   bool swing_height = false;     // the swing and height error analysis instead (eq. 57-70)
+  // The camera's actual photometry, rendered but not told to the host (it
+  // calibrates from each frame unless self_calibrate is off).
+  // (golden::pattern::CameraPhotometry).
+  double gain = 1.0, offset_grey = 0.0, vignetting = 0.0;
+  bool self_calibrate = true;
+  bool photometric_sweep = false;  // the table of docs/pattern.md instead of one study
 };
 int run_pattern_accuracy(const PatternAccuracyOptions& o);
 

@@ -54,6 +54,8 @@ bool known_status(hp::PatternStatus s) {
     case hp::PatternStatus::degenerate:
     case hp::PatternStatus::unknown_pattern:
       return true;
+    case hp::PatternStatus::uncalibrated:  // set by the app's photometric calibration only
+      return false;
   }
   return false;
 }

@@ -461,6 +461,16 @@ expect_error "pattern-accuracy noise" "noise" "" -- pattern-accuracy --noise -2
 expect_error "pattern-accuracy calib blur" "calib-blur" "" -- pattern-accuracy --calib-blur -0.5
 expect_error "pattern-accuracy calib noise" "calib-noise" "" -- pattern-accuracy --calib-noise 99
 expect_error "pattern-accuracy csv folder missing" "writable|folder|exist" "$work/nodir/p.csv" -- pattern-accuracy --csv "$work/nodir/p.csv"
+# The camera photometry the study renders (the host self-calibrates): bad values refused.
+expect_error "pattern-accuracy gain zero" "--gain" "" -- pattern-accuracy --gain 0
+expect_error "pattern-accuracy gain not a number" "--gain" "" -- pattern-accuracy --gain abc
+expect_error "pattern-accuracy gain too high" "--gain" "" -- pattern-accuracy --gain 5
+expect_error "pattern-accuracy offset out of range" "--offset" "" -- pattern-accuracy --offset 300
+expect_error "pattern-accuracy vignetting 1" "--vignetting" "" -- pattern-accuracy --vignetting 1
+expect_error "pattern-accuracy vignetting negative" "--vignetting" "" -- pattern-accuracy --vignetting -0.1
+expect_error "pattern-accuracy sweep with csv" "photometric-sweep.*excludes|excludes.*photometric-sweep" "$work/sweep.csv" -- pattern-accuracy --photometric-sweep --csv "$work/sweep.csv"
+expect_error "pattern-accuracy sweep with plot" "photometric-sweep.*excludes|excludes.*photometric-sweep" "$work/sweep.png" -- pattern-accuracy --photometric-sweep --plot "$work/sweep.png"
+expect_error "pattern-accuracy sweep with gain" "photometric-sweep.*excludes|excludes.*photometric-sweep" "" -- pattern-accuracy --photometric-sweep --gain 1.1
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -231,21 +231,35 @@ double Radiometry::level(PixelClass c) const {
   return black_level + gain * a;
 }
 
+double Radiometry::observed_level(PixelClass c) const {
+  return std::clamp(level(c), 0.0, 255.0);
+}
+
+double vignetting_factor(const CameraPhotometry& p, int width, int height, double x, double y) {
+  const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
+  const double r2 = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / (cx * cx + cy * cy);
+  return 1.0 - p.vignetting * r2;
+}
+
 ClassThresholds class_thresholds(const Radiometry& r) {
   const double bar = r.level(PixelClass::bar), wall = r.level(PixelClass::background);
   const double shadow = r.level(PixelClass::shadow), disc = r.level(PixelClass::pattern);
-  if (!(bar < wall && wall < shadow && shadow < disc) || disc > 255.0 || bar < 0.0) {
+  // The bar may lie below 0 and the disc above 255 (a frame's calibrated
+  // levels: the camera clips them); the wall, the run background, may not.
+  if (!(bar < wall && wall < shadow && shadow < disc) || !(wall >= 0.0 && wall < 255.0)) {
     throw std::invalid_argument(
-        "radiometry: levels must increase bar < wall < shadow < disc within 0..255");
+        "radiometry: levels must increase bar < wall < shadow < disc, the wall within 0..255");
   }
   ClassThresholds t{};
   // A third of the way from bar to wall: the wall far from the lamp is darker
-  // (the bar reader fits the resulting edge bias, docs/pattern.md).
-  t.bar_below = static_cast<int>(std::lround(bar + (wall - bar) / 3.0));
+  // (the bar reader fits the resulting edge bias, docs/pattern.md). At least
+  // 1, so that a bar the camera clips to 0 is still the bar class.
+  t.bar_below = std::max(1, static_cast<int>(std::lround(bar + (wall - bar) / 3.0)));
   t.shadow_from = static_cast<int>(std::lround(0.5 * (wall + shadow)));
-  // The disc borders only the dark rim (wall albedo): the midpoint is unbiased.
+  // The disc borders only the dark rim (wall albedo): the midpoint of the
+  // true levels is unbiased, even where the camera clips the disc's interior.
   t.pattern_from = static_cast<int>(std::lround(0.5 * (disc + wall)));
-  if (!(t.bar_below < t.shadow_from && t.shadow_from < t.pattern_from)) {
+  if (!(t.bar_below < t.shadow_from && t.shadow_from < t.pattern_from && t.pattern_from <= 255)) {
     throw std::invalid_argument("radiometry: class levels too close to separate");
   }
   return t;
@@ -279,6 +293,7 @@ std::array<stream::LutEntry, 256> bar_mask_lut(const Radiometry& r) {
   const double wall = r.level(PixelClass::background), disc = r.level(PixelClass::pattern);
   const uint8_t bg = bar_run_background(r);
   const double k = static_cast<double>(255 - bg);
+  const double full_from = disc_full_grey(r);
   std::array<stream::LutEntry, 256> lut{};
   for (unsigned g = 0; g < 256; ++g) {
     const bool mask = cls[g] == static_cast<uint8_t>(PixelClass::bar) ||
@@ -286,13 +301,16 @@ std::array<stream::LutEntry, 256> bar_mask_lut(const Radiometry& r) {
     const double grey = static_cast<double>(g);
     auto remap = static_cast<uint8_t>(255 - g);
     if (grey >= wall + kCoverageDeadZone) {
-      const double c =
-          grey >= disc - kCoverageDeadZone ? 1.0 : std::min(1.0, (grey - wall) / (disc - wall));
+      const double c = grey >= full_from ? 1.0 : std::min(1.0, (grey - wall) / (disc - wall));
       remap = static_cast<uint8_t>(bg + static_cast<int>(std::lround(k * c)));
     }
     lut[g] = stream::lut_entry(remap, mask, cls[g]);
   }
   return lut;
+}
+
+double disc_full_grey(const Radiometry& r) {
+  return r.observed_level(PixelClass::pattern) - kCoverageDeadZone;
 }
 
 uint32_t disc_coverage_weight(const Radiometry& r) {
@@ -305,7 +323,8 @@ host::pattern::DiscCoverageModel disc_coverage_model(const Radiometry& r, double
   m.k = disc_coverage_weight(r);
   m.contrast = r.level(PixelClass::pattern) - r.level(PixelClass::background);
   m.dead_lo = kCoverageDeadZone / m.contrast;
-  m.dead_hi = 1.0 - m.dead_lo;
+  // 1 - dead_lo unless the camera clips the disc (then from the clip level).
+  m.dead_hi = (disc_full_grey(r) - r.level(PixelClass::background)) / m.contrast;
   m.noise_grey = noise_grey;
   (blur_on_pixels ? m.kernel_sigma_px : m.psf_sigma_px) = blur_sigma_px;
   return m;
@@ -313,7 +332,7 @@ host::pattern::DiscCoverageModel disc_coverage_model(const Radiometry& r, double
 
 uint8_t bar_run_background(const Radiometry& r) {
   const double wall = r.level(PixelClass::background);
-  return static_cast<uint8_t>(std::clamp(255.0 - wall, 0.0, 255.0));
+  return static_cast<uint8_t>(std::lround(std::clamp(255.0 - wall, 0.0, 255.0)));
 }
 
 cv::Mat classify(const cv::Mat& grey, const std::array<uint8_t, 256>& lut) {
@@ -633,6 +652,12 @@ cv::Mat render_pattern(const host::CameraConfig& camera, const PatternGeometry& 
   std::vector<double> ja(static_cast<std::size_t>(n * n)), jb(ja.size());
   cv::Mat radiance(h, w, CV_64FC1, cv::Scalar(0.0));
   const double surroundings = radiometry.gain * radiometry.albedo_wall;
+  const CameraPhotometry& cp = params.photometry;
+  if (!(cp.gain > 0.0) || !std::isfinite(cp.gain) || !std::isfinite(cp.offset_grey) ||
+      !(cp.vignetting >= 0.0 && cp.vignetting < 1.0)) {
+    throw std::invalid_argument(
+        "render_pattern: camera gain must be > 0, offset finite, vignetting in [0, 1)");
+  }
   for (int j = 0; j < h; ++j) {
     double* out = radiance.ptr<double>(j);
     for (int i = 0; i < w; ++i) {
@@ -680,8 +705,14 @@ cv::Mat render_pattern(const host::CameraConfig& camera, const PatternGeometry& 
       out[i] = sum / static_cast<double>(ja.size());
     }
   }
+  if (cp.gain != 1.0 || cp.vignetting != 0.0) {
+    for (int j = 0; j < h; ++j) {
+      double* out = radiance.ptr<double>(j);
+      for (int i = 0; i < w; ++i) out[i] *= cp.gain * vignetting_factor(cp, w, h, i, j);
+    }
+  }
   RenderParams finish;
-  finish.background_grey = radiometry.black_level;
+  finish.background_grey = radiometry.black_level + cp.offset_grey;
   finish.blur_sigma_px = params.blur_sigma_px;
   finish.noise_sigma_grey = params.noise_sigma_grey;
   finish.noise_seed = params.noise_seed;

@@ -94,9 +94,28 @@ struct Radiometry {
   double albedo_disc = 0.98;
   double lamp_distance_m = 6.0;
   double wall_half_width_m = 3.0, wall_half_height_m = 1.5;
-  // Nominal grey level (falloff 1) of a class.
+  // Nominal grey level (falloff 1) of a class. May lie outside 0..255 for a
+  // radiometry estimated from a frame (host::pattern::calibrate_photometry):
+  // the camera then clips, and the LUT works on the clipped levels.
   double level(PixelClass c) const;
+  // The level as the camera delivers it: level(c) clipped to 0..255.
+  double observed_level(PixelClass c) const;
 };
+
+// The camera's own photometry, applied by the renderer on top of the scene's
+// radiometry: grey = black_level + offset_grey + gain * vignetting(r) *
+// (radiometry gain * albedo * falloff), vignetting(r) = 1 - vignetting *
+// (r / r_corner)^2 with r the distance from the image centre and r_corner
+// that of the corner pixel (a quadratic radial falloff reaching `vignetting`
+// at the corner). Then the blur and the noise (golden::finish_render). The
+// host is not told it: it calibrates from the frame (docs/pattern.md §2).
+struct CameraPhotometry {
+  double gain = 1.0;
+  double offset_grey = 0.0;
+  double vignetting = 0.0;  // fraction lost at the image corner, [0, 1)
+};
+// The camera's vignetting factor at pixel (x, y) of a width x height image.
+double vignetting_factor(const CameraPhotometry& p, int width, int height, double x, double y);
 
 // The class LUT: grey -> class code. Levels in grey order bar < wall < shadow <
 // disc; thresholds a third of the way from bar to wall, at the midpoints of
@@ -134,6 +153,9 @@ uint32_t bar_run_min_weight(const Radiometry& r);
 // Grey levels within this of the wall weigh nothing on the bright side, and
 // within this of the disc count as full disc (bar_mask_lut).
 inline constexpr double kCoverageDeadZone = 9.0;
+// The grey from which bar_mask_lut weighs a pixel as full disc: the disc
+// level as the camera delivers it (clipped to 255) less kCoverageDeadZone.
+double disc_full_grey(const Radiometry& r);
 // A full disc pixel's run weight with device_config (255 - background): a
 // disc run's sum_w / this is its chord in pixels, sum_xw / sum_w its centroid.
 uint32_t disc_coverage_weight(const Radiometry& r);
@@ -197,6 +219,7 @@ struct PatternRenderParams {
   double noise_sigma_grey = 2.0;
   uint64_t noise_seed = 1;
   bool apply_distortion = true;
+  CameraPhotometry photometry;  // the camera's gain, offset and vignetting
 };
 
 // Truth of one frame.

@@ -89,6 +89,8 @@ std::string_view to_string(PatternStatus s) {
       return "degenerate";
     case PatternStatus::unknown_pattern:
       return "unknown_pattern";
+    case PatternStatus::uncalibrated:
+      return "uncalibrated";
   }
   return "unknown";
 }

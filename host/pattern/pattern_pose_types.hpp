@@ -19,6 +19,7 @@ enum class PatternStatus {
   ambiguous,        // beta's two-way ambiguity not resolved (no usable shadow)
   degenerate,       // the ellipse cannot be solved
   unknown_pattern,  // identity read but not in the database
+  uncalibrated,     // the frame's photometry could not be calibrated (host/pattern/photometry.hpp)
 };
 std::string_view to_string(PatternStatus s);
 
