@@ -159,6 +159,13 @@ bool select_pieces(const Points& pts, double tape_width_m, const TapePoseOptions
     if (j > lo) ev.max_gap_m = std::max(ev.max_gap_m, first(j) - last(j - 1));
   }
   ev.span_m = last(hi) - first(lo);
+  // Ends: the chain of the first / last carried inlier along the tape reaches the image border.
+  const auto at_border = [&](size_t i) {
+    const size_t r = static_cast<size_t>(pts.comp[static_cast<size_t>(along[i].second)]);
+    return sc.comp_min_row[r] <= 0 || sc.comp_max_row[r] >= g.height - 1 ||
+           sc.comp_min_col[r] <= 0 || sc.comp_max_col[r] >= g.width - 1;
+  };
+  ev.ends_at_border = (at_border(begin[lo]) ? 1 : 0) + (at_border(begin[hi + 1] - 1) ? 1 : 0);
   for (size_t j = 0; j < pieces; ++j) {
     if (j >= lo && j <= hi) continue;
     for (size_t i = begin[j]; i < begin[j + 1]; ++i) {
@@ -203,6 +210,7 @@ void width_evidence(std::span<const stream::RunRecord> runs, const CameraModel& 
   sc.ratios.clear();
   std::vector<double>& excess = sc.excess;
   excess.clear();
+  sc.widths.clear();
   int consistent = 0;
   for (size_t i = 0; i < e; ++i) {
     const double y = 0.5 * (sc.left.y[i] + sc.right.y[i]);
@@ -217,6 +225,7 @@ void width_evidence(std::span<const stream::RunRecord> runs, const CameraModel& 
     if (run_px >= lo && run_px <= hi) ++consistent;
     sc.ratios.push_back(measured / predicted);
     excess.push_back(run_px - predicted_px);
+    sc.widths.emplace_back(predicted_px, run_px);
   }
   ev.width_sampled = static_cast<int>(sc.ratios.size());
   ev.width_consistent = consistent;
@@ -228,6 +237,23 @@ void width_evidence(std::span<const stream::RunRecord> runs, const CameraModel& 
   };
   ev.width_ratio_median = median(sc.ratios);
   ev.width_excess_px_median = median(excess);
+  // Taper: the medians of the wider and the narrower half (by prediction).
+  std::vector<std::pair<double, double>>& w = sc.widths;
+  std::sort(w.begin(), w.end());
+  const size_t half = w.size() / 2;
+  ev.taper_predicted_px = ev.taper_measured_px = 0.0;
+  if (half >= 2) {
+    std::vector<double>& a = sc.ratios;  // reused: its median is taken
+    const auto half_median = [&](size_t from, size_t to, bool measured) {
+      a.clear();
+      for (size_t i = from; i < to; ++i) a.push_back(measured ? w[i].second : w[i].first);
+      return median(a);
+    };
+    ev.taper_predicted_px =
+        half_median(w.size() - half, w.size(), false) - half_median(0, half, false);
+    ev.taper_measured_px =
+        half_median(w.size() - half, w.size(), true) - half_median(0, half, true);
+  }
 }
 
 void pitch_from_edges(std::span<const stream::RunRecord> runs, const CameraModel& cam,

@@ -157,6 +157,7 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     return out;
   }
   if (ev.visible_length_m < opt.min_coverage * ev.span_m ||
+      (opt.require_border_end && ev.ends_at_border == 0) ||
       (check_width && ev.width_consistent < opt.min_width_consistent_fraction * ev.width_sampled)) {
     out.yaw_rad = out.offset_m = 0.0;
     out.status = Status::inconsistent;

@@ -69,6 +69,11 @@ struct TapePoseOptions {
   // lamp, a sign) and their yaw is off by 0.3-1 deg (docs/scene_faults.md).
   // A zenith band leaving through the image side after ~0.4 m must pass.
   double min_visible_length_m = 0.3;
+  // The tape is longer than the view: the carried line must reach the image
+  // border at one end at least (the chain of its first or last inlier along
+  // the tape touches it). A lamp, a sign, a piece of anything wholly inside
+  // the image is not tape. false: no such check.
+  bool require_border_end = true;
 };
 
 // What a centre-line result rests on (filled whenever a line was fitted).
@@ -79,12 +84,16 @@ struct TapeEvidence {
   int width_consistent = 0;           // of those, within the tolerance of the predicted width
   double width_ratio_median = 0;      // median measured / predicted width
   double width_excess_px_median = 0;  // median measured - predicted width, image pixels
-  int pieces = 0;                     // pieces along the line (split at gaps > 2 rows and 2 widths)
-  int pieces_dropped = 0;             // pieces beyond max_gap_m from the main piece (not used)
-  double visible_length_m = 0;        // sum of the carried pieces' lengths along the tape
-  double span_m = 0;                  // first to last carried inlier, along the tape
-  double max_gap_m = 0;               // largest gap between carried pieces
-  double contrast_sigma = 0;  // Navigator: median (run mean grey - background) / noise sigma
+  // Perspective taper along the line: median width of the sampled runs
+  // predicted wider half minus that of the narrower half, predicted and measured.
+  double taper_predicted_px = 0, taper_measured_px = 0;
+  int pieces = 0;               // pieces along the line (split at gaps > 2 rows and 2 widths)
+  int pieces_dropped = 0;       // pieces beyond max_gap_m from the main piece (not used)
+  double visible_length_m = 0;  // sum of the carried pieces' lengths along the tape
+  double span_m = 0;            // first to last carried inlier, along the tape
+  double max_gap_m = 0;         // largest gap between carried pieces
+  int ends_at_border = 0;       // ends of the carried line whose chain reaches the image border
+  double contrast_sigma = 0;    // Navigator: median (run mean grey - background) / noise sigma
   // Zenith mode (moments of the mask): the band's width sqrt(12 lambda2) and
   // length sqrt(12 lambda1) (a uniform band), the width a tape of the
   // configured size predicts, the chord of the image through the centroid

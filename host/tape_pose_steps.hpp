@@ -87,11 +87,12 @@ struct Scratch {
   Mask mask_a, mask_b;
   std::vector<MaskFit> memo;
   std::vector<Candidate> cands;
-  std::vector<std::pair<double, int>> along;  // (position along the tape, point), sorted
-  std::vector<double> ratios;                 // measured / predicted run widths
-  std::vector<double> excess;                 // measured - predicted run widths, pixels
-  std::vector<size_t> piece_begin;            // index into `along` where each piece starts
-  std::vector<int> sampled;                   // points whose width is compared
+  std::vector<std::pair<double, int>> along;      // (position along the tape, point), sorted
+  std::vector<double> ratios;                     // measured / predicted run widths
+  std::vector<double> excess;                     // measured - predicted run widths, pixels
+  std::vector<std::pair<double, double>> widths;  // (predicted, measured) run widths, pixels
+  std::vector<size_t> piece_begin;                // index into `along` where each piece starts
+  std::vector<int> sampled;                       // points whose width is compared
 };
 
 // The pitch, the ceiling height and the image size every step reads.
