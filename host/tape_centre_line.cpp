@@ -211,6 +211,8 @@ void width_evidence(std::span<const stream::RunRecord> runs, const CameraModel& 
   std::vector<double>& excess = sc.excess;
   excess.clear();
   sc.widths.clear();
+  std::vector<double>& weights = sc.weights;
+  weights.clear();
   int consistent = 0;
   for (size_t i = 0; i < e; ++i) {
     const double y = 0.5 * (sc.left.y[i] + sc.right.y[i]);
@@ -226,6 +228,8 @@ void width_evidence(std::span<const stream::RunRecord> runs, const CameraModel& 
     sc.ratios.push_back(measured / predicted);
     excess.push_back(run_px - predicted_px);
     sc.widths.emplace_back(predicted_px, run_px);
+    const auto& r = runs[static_cast<size_t>(pts.run[static_cast<size_t>(sampled[i])])];
+    weights.push_back(static_cast<double>(r.sum_w) / (r.x_end - r.x_start + 1.0));
   }
   ev.width_sampled = static_cast<int>(sc.ratios.size());
   ev.width_consistent = consistent;
@@ -237,6 +241,7 @@ void width_evidence(std::span<const stream::RunRecord> runs, const CameraModel& 
   };
   ev.width_ratio_median = median(sc.ratios);
   ev.width_excess_px_median = median(excess);
+  ev.run_weight_median = median(weights);
   // Taper: the medians of the wider and the narrower half (by prediction).
   std::vector<std::pair<double, double>>& w = sc.widths;
   std::sort(w.begin(), w.end());

@@ -89,6 +89,7 @@ struct Scratch {
   std::vector<Candidate> cands;
   std::vector<std::pair<double, int>> along;      // (position along the tape, point), sorted
   std::vector<double> ratios;                     // measured / predicted run widths
+  std::vector<double> weights;                    // sum_w per run pixel
   std::vector<double> excess;                     // measured - predicted run widths, pixels
   std::vector<std::pair<double, double>> widths;  // (predicted, measured) run widths, pixels
   std::vector<size_t> piece_begin;                // index into `along` where each piece starts
