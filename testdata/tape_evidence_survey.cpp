@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "drivers/device.hpp"
+#include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/camera_config_io.hpp"
@@ -115,19 +116,11 @@ int main() {
     for (const auto& [name, scene] : scenes) {
       int sok = 0, szok = 0, sn = 0;
       for (double pitch : {30.0, 45.0, 68.0, 90.0}) {
-        host::CameraConfig cam;
-        cam.camera_matrix = {520.0, 0.0, 321.7, 0.0, 518.5, 238.2, 0.0, 0.0, 1.0};
-        cam.distortion_coefficients = {-0.08, 0.015, 0.0004, -0.0003, 0.0};
+        host::CameraConfig cam = golden::default_camera();
         cam.camera_pitch_deg = pitch;
-        cam.camera_height_m = 0.5;
-        cam.ceiling_height_m = 2.8;
         for (const auto& pose : poses) {
-          golden::RenderParams p;
-          p.blur_sigma_px = 0.7;
-          p.noise_sigma_grey = 3;
+          golden::RenderParams p = golden::default_render_params();
           p.noise_seed = static_cast<uint64_t>(sn + 1);
-          p.background_grey = 18;
-          p.tape_gain = 1200;
           host::Navigator nav(cam, drivers::make_device(), opt);
           const auto r = nav.process(golden::render_frame(cam, scene, pose, p));
           ++sn;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "drivers/device.hpp"
+#include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "golden/scene.hpp"
 #include "host/navigator.hpp"
@@ -21,26 +22,18 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// The demo camera (as scene_faults_test): 640x480, mild barrel distortion,
-// ceiling 2.3 m above the camera, tape 5 cm.
+// The demo camera (golden::default_camera: 640x480, mild barrel distortion,
+// ceiling 2.3 m above the camera, tape 5 cm) at `pitch_deg`.
 CameraConfig camera(double pitch_deg = 45.0) {
-  CameraConfig c;
-  c.camera_matrix = {520.0, 0.0, 321.7, 0.0, 518.5, 238.2, 0.0, 0.0, 1.0};
-  c.distortion_coefficients = {-0.08, 0.015, 0.0004, -0.0003, 0.0};
+  CameraConfig c = golden::default_camera();
   c.camera_pitch_deg = pitch_deg;
-  c.camera_height_m = 0.5;
-  c.ceiling_height_m = 2.8;
-  c.tape_width_m = 0.05;
   return c;
 }
 
+// The demo's rendering (noise 3, blur 0.7 px, background 18, tape 1200 / r^2).
 golden::RenderParams render_params(uint64_t seed) {
-  golden::RenderParams p;
-  p.blur_sigma_px = 0.7;
-  p.noise_sigma_grey = 3.0;
+  golden::RenderParams p = golden::default_render_params();
   p.noise_seed = seed;
-  p.background_grey = 18.0;
-  p.tape_gain = 1200.0;
   return p;
 }
 
