@@ -121,23 +121,23 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
   };
   Status st = solve();
   TapeEvidence& ev = out.evidence;
-  if (st == Status::ok &&
-      select_pieces(pts, cfg.tape_width_m, opt, g, out.yaw_rad, final_inliers, sc, ev)) {
-    // Pieces far from the main one were dropped: the line rests on the rest.
+  // Pieces far from the main one are dropped and the line refitted on the
+  // rest, until the carried set holds (at most 3 refits; a set that still
+  // changes then is no stable line: inconsistent).
+  int dropped = 0;
+  for (int refit = 0; st == Status::ok; ++refit) {
+    if (!select_pieces(pts, cfg.tape_width_m, opt, g, out.yaw_rad, final_inliers, sc, ev)) break;
+    dropped += ev.pieces_dropped;
+    if (refit == 3) st = Status::inconsistent;
+    if (st != Status::ok) break;
     line = fit_x_on_y(pts, final_inliers);
-    if (!line.ok) {
-      out.status = Status::degenerate;
-      return out;
-    }
+    if (!line.ok) st = Status::degenerate;
+    if (st != Status::ok) break;
     out.yaw_rad = out.offset_m = 0.0;
     st = solve();
-    if (st == Status::ok) {
-      const int dropped = ev.pieces_dropped;
-      select_pieces(pts, cfg.tape_width_m, opt, g, out.yaw_rad, final_inliers, sc, ev);
-      ev.pieces_dropped += dropped;
-      ev.pieces += dropped;
-    }
   }
+  ev.pieces += dropped - ev.pieces_dropped;
+  ev.pieces_dropped = dropped;
   ev.runs = out.points_used;
   ev.residual_px = out.residual_rms_px;
   if (st != Status::ok) {
