@@ -127,7 +127,8 @@ bool select_pieces(const Points& pts, double tape_width_m, const TapePoseOptions
     if (inliers[k] == 0) continue;
     along.emplace_back(along_tape_m(pts.y[k], g, cos_yaw), static_cast<int>(k));
   }
-  std::sort(along.begin(), along.end());
+  // Inliers come in row order and s grows with the row: usually sorted already.
+  if (!std::is_sorted(along.begin(), along.end())) std::sort(along.begin(), along.end());
   const size_t m = along.size();
   if (m == 0) return false;
   // Piece boundaries: piece j is along[begin[j], begin[j + 1]).
@@ -179,7 +180,7 @@ void width_evidence(std::span<const stream::RunRecord> runs, const CameraModel& 
                     const CameraConfig& cfg, const TapePoseOptions& opt, const Geometry& g,
                     double yaw_rad, const Mask& inliers, int used, Scratch& sc, TapeEvidence& ev) {
   const Points& pts = sc.pts;
-  const size_t stride = static_cast<size_t>(std::max(1, (used + 63) / 64));
+  const size_t stride = static_cast<size_t>(std::max(1, (used + 31) / 32));
   sc.u.clear();
   sc.v.clear();
   std::vector<int>& sampled = sc.sampled;

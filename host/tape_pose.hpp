@@ -80,7 +80,7 @@ struct TapePoseOptions {
 struct TapeEvidence {
   int runs = 0;                       // inlier runs carrying the line (= TapePose::points_used)
   double residual_px = 0.0;           // RMS of their centres about the line
-  int width_sampled = 0;              // inlier runs whose width was compared (at most 64)
+  int width_sampled = 0;              // inlier runs whose width was compared (at most 32)
   int width_consistent = 0;           // of those, within the tolerance of the predicted width
   double width_ratio_median = 0;      // median measured / predicted width
   double width_excess_px_median = 0;  // median measured - predicted width, image pixels

@@ -269,7 +269,7 @@ double along_tape_m(double y, const Geometry& g, double cos_yaw);
 bool select_pieces(const Points& pts, double tape_width_m, const TapePoseOptions& opt,
                    const Geometry& g, double yaw_rad, Mask& inliers, Scratch& sc, TapeEvidence& ev);
 
-// Width evidence: up to 64 evenly spaced inlier runs, their edges
+// Width evidence: up to 32 evenly spaced inlier runs, their edges
 // (x_start - 0.5, x_end + 0.5 on their row) undistorted; measured normalised
 // width against W (sin p - y cos p) / (c cos psi) (section 3). Slack
 // width_slack_px converted at the run's own distorted-to-undistorted scale.
