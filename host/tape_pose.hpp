@@ -93,9 +93,9 @@ struct TapeEvidence {
   double span_m = 0;            // first to last carried inlier, along the tape
   double max_gap_m = 0;         // largest gap between carried pieces
   int ends_at_border = 0;       // ends of the carried line whose chain reaches the image border
-  double run_weight_median =
-      0;  // median sum_w / pixels of the compared runs (grey - background_level)
-  double contrast_sigma = 0;  // Navigator: median (run mean grey - background) / noise sigma
+  // Median sum_w / pixels of the compared runs (their mean grey - background_level),
+  // and the Navigator's contrast: (that + background_level - background) / noise sigma.
+  double run_weight_median = 0, contrast_sigma = 0;
   // Zenith mode (moments of the mask): the band's width sqrt(12 lambda2) and
   // length sqrt(12 lambda1) (a uniform band), the width a tape of the
   // configured size predicts, the chord of the image through the centroid
