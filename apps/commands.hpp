@@ -33,6 +33,9 @@ struct RunOptions {
   // N > 0: an overlay PNG of every N-th frame (frame 0 included) into
   // overlays/ beside the CSV; 0: none.
   int overlay_every = 0;
+  // The frames are one sequence from a moving robot: a pose farther from the
+  // previous frame's than the robot can move is `jump` (host::TrackOptions).
+  bool track = false;
 };
 int run_frames(const RunOptions& o);
 

@@ -114,6 +114,9 @@ CLI::App* add_run_command(CLI::App& app, RunOptions& run) {
   run_cmd->add_option("--seed", run.seed, "model/rtl: seed of the gap/back-pressure pattern")
       ->check(unsigned_integer());
   add_overlay_every(*run_cmd, run.overlay_every, "in the CSV's folder; 0: none");
+  run_cmd->add_flag("--track", run.track,
+                    "The frames are one sequence in name order: a pose farther from the previous "
+                    "ok frame's than the robot can move between frames is 'jump'");
   return run_cmd;
 }
 

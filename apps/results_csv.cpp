@@ -12,9 +12,16 @@ std::string frame_status(const host::FrameOutcome& outcome) {
 }
 
 void write_results_header(std::ostream& out) {
-  CsvWriter(out).row({"frame", "status", "yaw_rad", "offset_m", "pitch_rad", "vp_u", "vp_v",
-                      "pitch_est_rad", "points_used", "residual_px", "threshold", "passes",
-                      "zenith_yaw_rad", "zenith_offset_m"});
+  CsvWriter(out).row({"frame",          "status",
+                      "yaw_rad",        "offset_m",
+                      "pitch_rad",      "vp_u",
+                      "vp_v",           "pitch_est_rad",
+                      "points_used",    "residual_px",
+                      "threshold",      "passes",
+                      "zenith_yaw_rad", "zenith_offset_m",
+                      "zenith_status",  "visible_length_m",
+                      "coverage",       "width_consistent",
+                      "ends_at_border", "contrast_sigma"});
 }
 
 void write_results_row(std::ostream& out, const std::string& frame_name,
@@ -27,6 +34,7 @@ void write_results_row(std::ostream& out, const std::string& frame_name,
   const auto value = [&](bool present, double v) -> double {
     return present ? v : std::numeric_limits<double>::quiet_NaN();
   };
+  // A zenith result counts only when it is ok itself; its columns are empty otherwise.
   const bool zenith_ok = o.zenith && o.zenith->status == host::Status::ok;
   CsvWriter w(out);
   w.text(frame_name).text(status);
@@ -39,6 +47,27 @@ void write_results_row(std::ostream& out, const std::string& frame_name,
   w.integer(static_cast<int>(o.settings.threshold)).integer(o.passes);
   w.general(value(zenith_ok, zenith_ok ? o.zenith->yaw_rad : 0.0), kDigits)
       .general(value(zenith_ok, zenith_ok ? o.zenith->offset_m : 0.0), kDigits);
+  if (o.zenith) {
+    w.text(std::string(host::to_string(o.zenith->status)));
+  } else {
+    w.empty();
+  }
+  // Evidence of the centre line, whenever one was fitted (it explains the status).
+  const host::TapeEvidence& ev = p.evidence;
+  const bool fitted = ev.runs > 0 && ev.span_m > 0.0;
+  w.general(value(fitted, ev.visible_length_m), 4)
+      .general(value(fitted, fitted ? ev.visible_length_m / ev.span_m : 0.0), 4);
+  if (fitted && ev.width_sampled > 0) {
+    w.text(std::to_string(ev.width_consistent) + "/" + std::to_string(ev.width_sampled));
+  } else {
+    w.empty();
+  }
+  if (fitted) {
+    w.integer(ev.ends_at_border);
+  } else {
+    w.empty();
+  }
+  w.general(value(fitted, ev.contrast_sigma), 4);
   w.end_row();
 }
 

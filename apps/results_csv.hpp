@@ -9,8 +9,14 @@
 namespace ceilnav::app {
 
 // Columns: frame,status,yaw_rad,offset_m,pitch_rad,vp_u,vp_v,pitch_est_rad,
-// points_used,residual_px,threshold,passes,zenith_yaw_rad,zenith_offset_m.
-// A value that does not exist for the frame (failed status, vanishing point at
+// points_used,residual_px,threshold,passes,zenith_yaw_rad,zenith_offset_m,
+// zenith_status,visible_length_m,coverage,width_consistent,ends_at_border,
+// contrast_sigma. The pose columns of a result that is not ok are empty (the
+// centre line's by `status`, the zenith's by `zenith_status`); the evidence
+// columns (host::TapeEvidence: visible tape length, its coverage of the span,
+// width-consistent / compared runs, ends at the image border, contrast in
+// noise sigmas) are filled whenever a centre line was fitted, ok or not. A value
+// that does not exist for the frame (failed status, vanishing point at
 // infinity, no pitch estimate, not a zenith camera) is an empty field, never NaN.
 void write_results_header(std::ostream& out);
 void write_results_row(std::ostream& out, const std::string& frame_name,

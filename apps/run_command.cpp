@@ -32,7 +32,9 @@ int run_frames(const RunOptions& o) {
   device.gap_probability = o.gap_probability;
   device.backpressure_probability = o.backpressure_probability;
   device.seed = o.seed;
-  host::Navigator nav(camera, drivers::make_device(device));
+  host::NavigatorOptions nav_options;
+  nav_options.track.enabled = o.track;
+  host::Navigator nav(camera, drivers::make_device(device), nav_options);
 
   // --overlay-every: overlays/ beside the CSV, staged and committed just
   // before the CSV, so a failed run leaves neither.

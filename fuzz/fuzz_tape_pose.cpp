@@ -58,6 +58,8 @@ bool known_status(Status s) {
     case Status::degenerate:
     case Status::bad_config:
     case Status::frame_invalid:
+    case Status::inconsistent:
+    case Status::jump:
       return true;
   }
   return false;
@@ -66,9 +68,22 @@ bool known_status(Status s) {
 void check_pose(const TapePose& p, const char* what) {
   FUZZ_CHECK(known_status(p.status), "%s: status %d", what, static_cast<int>(p.status));
   FUZZ_CHECK(p.method != nullptr, "%s: no method", what);
-  const double fields[] = {p.yaw_rad,       p.offset_m,     p.pitch_rad,       p.pitch_est_rad,
-                           p.vp_u_px,       p.vp_v_px,      p.residual_rms_px, p.line_norm.x(),
-                           p.line_norm.y(), p.line_norm.z()};
+  const double fields[] = {p.yaw_rad,
+                           p.offset_m,
+                           p.pitch_rad,
+                           p.pitch_est_rad,
+                           p.vp_u_px,
+                           p.vp_v_px,
+                           p.residual_rms_px,
+                           p.line_norm.x(),
+                           p.line_norm.y(),
+                           p.line_norm.z(),
+                           p.evidence.residual_px,
+                           p.evidence.width_ratio_median,
+                           p.evidence.visible_length_m,
+                           p.evidence.span_m,
+                           p.evidence.max_gap_m,
+                           p.evidence.contrast_sigma};
   for (double v : fields) {
     FUZZ_CHECK(std::isfinite(v), "%s: non-finite field in a result with status %d", what,
                static_cast<int>(p.status));

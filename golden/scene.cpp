@@ -53,6 +53,18 @@ CeilingScene single_tape_scene(double tape_width_m) {
   return scene;
 }
 
+CeilingScene lamp_grid_scene(const LampGridOptions& o) {
+  CeilingScene s;
+  for (double x = o.x_min; x <= o.x_max + 1e-9; x += o.pitch_x_m) {
+    for (double y = o.y_min; y <= o.y_max + 1e-9; y += o.pitch_y_m) {
+      // A strip along X through (x, y): width_m wide, length_m long.
+      s.tapes.push_back(
+          {x - 0.5 * o.length_m, y, x + 0.5 * o.length_m, y, o.width_m, o.reflectance});
+    }
+  }
+  return s;
+}
+
 double pitch_rad(const host::CameraConfig& camera) {
   return camera.camera_pitch_deg * std::numbers::pi / 180.0;
 }

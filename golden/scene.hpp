@@ -70,6 +70,21 @@ CeilingScene corridor_scene(double tape_width_m, const CorridorOptions& options 
 // One unbroken tape along X (x from -10 m to 100 m) on y = 0, for accuracy tests.
 CeilingScene single_tape_scene(double tape_width_m);
 
+// Ceiling lights without any tape (distractors for the tape path): a grid of
+// rectangular fixtures, each `length_m` along X by `width_m` along Y, centres
+// every `pitch_x_m` along X and `pitch_y_m` along Y over x in [x_min, x_max],
+// y in [y_min, y_max], rendered as strips of `reflectance` (bright under the
+// flash like a lamp's diffuser; a lamp's own light adds a constant, which the
+// threshold does not tell from reflected flash). tapes[0] is a lamp, not a
+// reference tape: truth_for has no meaning for this scene.
+struct LampGridOptions {
+  double length_m = 0.6, width_m = 0.1;
+  double pitch_x_m = 1.6, pitch_y_m = 1.2;
+  double x_min = -4.0, x_max = 20.0, y_min = -4.0, y_max = 4.0;
+  double reflectance = 3.0;
+};
+CeilingScene lamp_grid_scene(const LampGridOptions& options = {});
+
 double pitch_rad(const host::CameraConfig& camera);
 Eigen::Vector3d camera_centre(const host::CameraConfig& camera, const CameraPose& pose);
 

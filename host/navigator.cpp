@@ -26,6 +26,24 @@ stream::FrameResults Navigator::run_pipeline(const cv::Mat& grey, const Threshol
   return device_->process(grey, cfg, runs, cycles);
 }
 
+void Navigator::apply_track(TapePose& pose) {
+  if (pose.status != Status::ok) {
+    track_.reset();  // lost: the next ok frame locks
+    return;
+  }
+  if (track_) {
+    const double dyaw = std::abs(pose.yaw_rad - track_->yaw_rad) * 180.0 / 3.14159265358979323846;
+    const double doff = std::abs(pose.offset_m - track_->offset_m);
+    if (dyaw > options_.track.max_yaw_step_deg || doff > options_.track.max_offset_step_m) {
+      pose.status = Status::jump;
+      pose.yaw_rad = pose.offset_m = 0.0;
+      track_.reset();
+      return;
+    }
+  }
+  track_ = pose;
+}
+
 FrameOutcome Navigator::process(const cv::Mat& grey) {
   if (grey.type() != CV_8UC1 || grey.cols != camera_.image_width ||
       grey.rows != camera_.image_height) {
@@ -65,8 +83,19 @@ FrameOutcome Navigator::process(const cv::Mat& grey) {
     return out;
   }
   out.pose = estimate_tape_pose(out.runs, model_, camera_, options_.pose);
+  // Contrast of the compared runs (evidence, reported, not gated: an
+  // over-exposed ceiling with the tape 1.7 sigma above it still gives the pose
+  // within the bar, docs/scene_faults.md). Weight per run pixel = grey - background_level.
+  TapeEvidence& ev = out.pose.evidence;
+  if (ev.width_sampled > 0 && fresh.noise_sigma_grey > 0.0) {
+    ev.contrast_sigma =
+        (ev.run_weight_median + out.settings.background_level - fresh.background_grey) /
+        fresh.noise_sigma_grey;
+  }
+  if (options_.track.enabled) apply_track(out.pose);
   if (camera_.camera_pitch_deg >= 89.999) {
-    out.zenith = zenith_pose_from_moments(out.results.moments, model_, camera_);
+    out.zenith =
+        zenith_pose_from_moments(out.results.moments, model_, camera_, true, options_.zenith);
   }
   return out;
 }

@@ -38,10 +38,26 @@ enum class ThresholdPolicy {
   previous_frame_rerun,  // ... and a second pass when this frame's own histogram disagrees
 };
 
+// Continuity with the previous frame (off by default: a folder of frames is
+// not always one sequence, e.g. `ceilnav render --random-poses`). While a
+// track is held (the previous frame was ok), a centre-line pose whose yaw or
+// offset moved more than the robot can between two frames is `jump`, and the
+// track is dropped: the next ok frame locks again, as does the first frame.
+// Tunables from the robot: max_yaw_step_deg = turn rate x frame interval
+// (90 deg/s at 30 frames/s: 3 deg; with margin 5), max_offset_step_m = lateral
+// speed x frame interval (1.5 m/s at 30 frames/s: 0.05 m; with margin 0.1).
+struct TrackOptions {
+  bool enabled = false;
+  double max_yaw_step_deg = 5.0;
+  double max_offset_step_m = 0.1;
+};
+
 struct NavigatorOptions {
   ThresholdOptions threshold;
   ThresholdPolicy threshold_policy = ThresholdPolicy::previous_frame_rerun;
   TapePoseOptions pose;
+  ZenithOptions zenith;
+  TrackOptions track;
   int threshold_tolerance_grey = 4;  // tunable: re-run a frame when the threshold moves more
   uint16_t min_run_length = 2;       // tunable: single-pixel runs are noise
   uint16_t max_runs_per_row = 16;
@@ -72,6 +88,8 @@ class Navigator {
   const NavigatorOptions& options() const { return options_; }
 
  private:
+  // Tracking (TrackOptions): `jump` when the pose left the held track.
+  void apply_track(TapePose& pose);
   stream::FrameResults run_pipeline(const cv::Mat& grey, const ThresholdSettings& s,
                                     std::vector<stream::RunRecord>& runs, uint64_t& cycles);
 
@@ -80,6 +98,7 @@ class Navigator {
   NavigatorOptions options_;
   std::unique_ptr<FrameProcessor> device_;
   std::optional<ThresholdSettings> previous_;
+  std::optional<TapePose> track_;  // the previous frame's pose while it was ok (tracking)
 };
 
 }  // namespace ceilnav::host

@@ -16,6 +16,10 @@ std::string_view to_string(Status s) {
       return "bad_config";
     case Status::frame_invalid:
       return "frame_invalid";
+    case Status::inconsistent:
+      return "inconsistent";
+    case Status::jump:
+      return "jump";
   }
   return "unknown";
 }

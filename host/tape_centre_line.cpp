@@ -113,6 +113,155 @@ double yaw_sigma(const InlierStats& s, const LineFit& line, double fx, const Geo
   return 0.0;
 }
 
+double along_tape_m(double y, const Geometry& g, double cos_yaw) {
+  return g.c * (g.cp + y * g.sp) / ((g.sp - y * g.cp) * cos_yaw);
+}
+
+bool select_pieces(const Points& pts, double tape_width_m, const TapePoseOptions& opt,
+                   const Geometry& g, double yaw_rad, Mask& inliers, Scratch& sc,
+                   TapeEvidence& ev) {
+  const double cos_yaw = std::cos(yaw_rad);
+  auto& along = sc.along;
+  along.clear();
+  for (size_t k = 0; k < pts.size(); ++k) {
+    if (inliers[k] == 0) continue;
+    along.emplace_back(along_tape_m(pts.y[k], g, cos_yaw), static_cast<int>(k));
+  }
+  // Inliers come in row order and s grows with the row: usually sorted already.
+  if (!std::is_sorted(along.begin(), along.end())) std::sort(along.begin(), along.end());
+  const size_t m = along.size();
+  if (m == 0) return false;
+  // Piece boundaries: piece j is along[begin[j], begin[j + 1]).
+  std::vector<size_t>& begin = sc.piece_begin;
+  begin.assign(1, 0);
+  for (size_t i = 1; i < m; ++i) {
+    const int drow = std::abs(pts.row[static_cast<size_t>(along[i].second)] -
+                              pts.row[static_cast<size_t>(along[i - 1].second)]);
+    if (drow > 2 && along[i].first - along[i - 1].first > 2.0 * tape_width_m) begin.push_back(i);
+  }
+  begin.push_back(m);
+  const size_t pieces = begin.size() - 1;
+  const auto first = [&](size_t j) { return along[begin[j]].first; };
+  const auto last = [&](size_t j) { return along[begin[j + 1] - 1].first; };
+  size_t main = 0;
+  for (size_t j = 1; j < pieces; ++j) {
+    if (last(j) - first(j) > last(main) - first(main)) main = j;
+  }
+  const bool limit = opt.max_gap_m > 0.0;
+  size_t lo = main, hi = main;
+  while (lo > 0 && (!limit || first(lo) - last(lo - 1) <= opt.max_gap_m)) --lo;
+  while (hi + 1 < pieces && (!limit || first(hi + 1) - last(hi) <= opt.max_gap_m)) ++hi;
+  ev.pieces = static_cast<int>(pieces);
+  ev.pieces_dropped = static_cast<int>(pieces - (hi - lo + 1));
+  ev.visible_length_m = 0.0;
+  ev.max_gap_m = 0.0;
+  for (size_t j = lo; j <= hi; ++j) {
+    ev.visible_length_m += last(j) - first(j);
+    if (j > lo) ev.max_gap_m = std::max(ev.max_gap_m, first(j) - last(j - 1));
+  }
+  ev.span_m = last(hi) - first(lo);
+  // Ends: the chain of the first / last carried inlier along the tape reaches the image border.
+  const auto at_border = [&](size_t i) {
+    const size_t r = static_cast<size_t>(pts.comp[static_cast<size_t>(along[i].second)]);
+    return sc.comp_min_row[r] <= 0 || sc.comp_max_row[r] >= g.height - 1 ||
+           sc.comp_min_col[r] <= 0 || sc.comp_max_col[r] >= g.width - 1;
+  };
+  ev.ends_at_border = (at_border(begin[lo]) ? 1 : 0) + (at_border(begin[hi + 1] - 1) ? 1 : 0);
+  for (size_t j = 0; j < pieces; ++j) {
+    if (j >= lo && j <= hi) continue;
+    for (size_t i = begin[j]; i < begin[j + 1]; ++i) {
+      inliers[static_cast<size_t>(along[i].second)] = 0;
+    }
+  }
+  return ev.pieces_dropped > 0;
+}
+
+void width_evidence(std::span<const stream::RunRecord> runs, const CameraModel& cam,
+                    const CameraConfig& cfg, const TapePoseOptions& opt, const Geometry& g,
+                    double yaw_rad, const Mask& inliers, int used, Scratch& sc, TapeEvidence& ev) {
+  const Points& pts = sc.pts;
+  const size_t stride = static_cast<size_t>(std::max(1, (used + 31) / 32));
+  sc.u.clear();
+  sc.v.clear();
+  std::vector<int>& sampled = sc.sampled;
+  sampled.clear();
+  size_t phase = 0;
+  for (size_t k = 0; k < pts.size(); ++k) {
+    if (inliers[k] == 0) continue;
+    const bool take = phase == 0;
+    if (++phase == stride) phase = 0;
+    if (!take) continue;
+    sampled.push_back(static_cast<int>(k));
+  }
+  const size_t e = sampled.size();
+  sc.u.resize(2 * e);
+  sc.v.resize(2 * e);
+  for (size_t i = 0; i < e; ++i) {
+    const auto& r = runs[static_cast<size_t>(pts.run[static_cast<size_t>(sampled[i])])];
+    sc.u[i] = r.x_start - 0.5;
+    sc.u[e + i] = r.x_end + 0.5;
+    sc.v[i] = sc.v[e + i] = r.row;
+  }
+  sc.left.resize(e);
+  sc.right.resize(e);
+  const std::span<const double> u_all(sc.u), v_all(sc.v);
+  cam.normalise(u_all.first(e), v_all.first(e), sc.left.x, sc.left.y);
+  cam.normalise(u_all.last(e), v_all.last(e), sc.right.x, sc.right.y);
+  const double scale = cfg.tape_width_m / (g.c * std::cos(yaw_rad));
+  sc.ratios.clear();
+  std::vector<double>& excess = sc.excess;
+  excess.clear();
+  sc.widths.clear();
+  std::vector<double>& weights = sc.weights;
+  weights.clear();
+  int consistent = 0;
+  for (size_t i = 0; i < e; ++i) {
+    const double y = 0.5 * (sc.left.y[i] + sc.right.y[i]);
+    const double predicted = scale * (g.sp - y * g.cp);
+    const double measured = sc.right.x[i] - sc.left.x[i];
+    const double run_px = sc.u[e + i] - sc.u[i];
+    if (!(predicted > 0.0) || !(measured > 0.0) || !std::isfinite(measured)) continue;
+    const double px = run_px / measured;  // distorted pixels per normalised unit, locally
+    const double predicted_px = predicted * px;
+    const double lo = (1.0 - opt.width_tolerance) * predicted_px - opt.width_slack_px;
+    const double hi = (1.0 + opt.width_tolerance) * predicted_px + opt.width_slack_px;
+    if (run_px >= lo && run_px <= hi) ++consistent;
+    sc.ratios.push_back(measured / predicted);
+    excess.push_back(run_px - predicted_px);
+    sc.widths.emplace_back(predicted_px, run_px);
+    const auto& r = runs[static_cast<size_t>(pts.run[static_cast<size_t>(sampled[i])])];
+    weights.push_back(static_cast<double>(r.sum_w) / (r.x_end - r.x_start + 1.0));
+  }
+  ev.width_sampled = static_cast<int>(sc.ratios.size());
+  ev.width_consistent = consistent;
+  const auto median = [](std::vector<double>& v) {
+    if (v.empty()) return 0.0;
+    auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
+  ev.width_ratio_median = median(sc.ratios);
+  ev.width_excess_px_median = median(excess);
+  ev.run_weight_median = median(weights);
+  // Taper: the medians of the wider and the narrower half (by prediction).
+  std::vector<std::pair<double, double>>& w = sc.widths;
+  std::sort(w.begin(), w.end());
+  const size_t half = w.size() / 2;
+  ev.taper_predicted_px = ev.taper_measured_px = 0.0;
+  if (half >= 2) {
+    std::vector<double>& a = sc.ratios;  // reused: its median is taken
+    const auto half_median = [&](size_t from, size_t to, bool measured) {
+      a.clear();
+      for (size_t i = from; i < to; ++i) a.push_back(measured ? w[i].second : w[i].first);
+      return median(a);
+    };
+    ev.taper_predicted_px =
+        half_median(w.size() - half, w.size(), false) - half_median(0, half, false);
+    ev.taper_measured_px =
+        half_median(w.size() - half, w.size(), true) - half_median(0, half, true);
+  }
+}
+
 void pitch_from_edges(std::span<const stream::RunRecord> runs, const CameraModel& cam,
                       const Mask& final_inliers, int used, Scratch& sc, TapePose& out) {
   const Points& pts = sc.pts;
@@ -163,7 +312,7 @@ void pitch_from_edges(std::span<const stream::RunRecord> runs, const CameraModel
   if (v.y() < 0.0) v = -v;
   if (v.allFinite() && v.y() > 1e-12 * v.norm()) {
     const double pe = std::atan2(v.y(), v.z());
-    if (pe > 0.0 && pe < 0.5 * kPi + 0.2) {
+    if (pe > 0.0 && pe <= 0.5 * kPi) {  // above 90 deg is no camera pitch
       out.pitch_est_valid = true;
       out.pitch_est_rad = pe;
     }

@@ -101,38 +101,66 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     out.status = Status::degenerate;
     return out;
   }
-  const LineFit line = choose_tape(sc.cands, opt.tie_fraction);
+  LineFit line = choose_tape(sc.cands, opt.tie_fraction);
 
-  // Final statistics on the inliers; the gates on them.
+  // Final statistics on the inliers, the gates on them, yaw and offset.
   Mask& final_inliers = sc.mask_a;
   fits.inliers(line, final_inliers);
-  const InlierStats stats = inlier_statistics(pts, final_inliers, line, cam.fx());
-  out.points_used = stats.used;
-  out.residual_rms_px = stats.used > 0 ? std::sqrt(stats.ss / stats.used) : 0.0;
-  {
+  const auto solve = [&]() -> Status {
+    const InlierStats stats = inlier_statistics(pts, final_inliers, line, cam.fx());
+    out.points_used = stats.used;
+    out.residual_rms_px = stats.used > 0 ? std::sqrt(stats.ss / stats.used) : 0.0;
     const double norm = std::sqrt(1.0 + line.a * line.a);
     out.line_norm = Eigen::Vector3d(1.0, -line.a, -line.b) / norm;
+    if (stats.used < opt.min_points) return too_few;
+    if (stats.row_max - stats.row_min < opt.min_row_span_px) return Status::degenerate;
+    out.yaw_sigma_rad = yaw_sigma(stats, line, cam.fx(), g);
+    if (out.yaw_sigma_rad > opt.max_yaw_sigma_deg * kDegToRad) return Status::too_few_points;
+    return pose_from_centre_line(out.line_norm, out.pitch_rad, g.c, opt.max_abs_yaw_deg * kDegToRad,
+                                 out.yaw_rad, out.offset_m);
+  };
+  Status st = solve();
+  TapeEvidence& ev = out.evidence;
+  // Pieces far from the main one are dropped and the line refitted on the
+  // rest, until the carried set holds (at most 3 refits; a set that still
+  // changes then is no stable line: inconsistent).
+  int dropped = 0;
+  for (int refit = 0; st == Status::ok; ++refit) {
+    if (!select_pieces(pts, cfg.tape_width_m, opt, g, out.yaw_rad, final_inliers, sc, ev)) break;
+    dropped += ev.pieces_dropped;
+    if (refit == 3) st = Status::inconsistent;
+    if (st != Status::ok) break;
+    line = fit_x_on_y(pts, final_inliers);
+    if (!line.ok) st = Status::degenerate;
+    if (st != Status::ok) break;
+    out.yaw_rad = out.offset_m = 0.0;
+    st = solve();
   }
-  if (stats.used < opt.min_points) {
-    out.status = too_few;
+  ev.pieces += dropped - ev.pieces_dropped;
+  ev.pieces_dropped = dropped;
+  ev.runs = out.points_used;
+  ev.residual_px = out.residual_rms_px;
+  if (st != Status::ok) {
+    out.yaw_rad = out.offset_m = 0.0;
+    out.status = st;
     return out;
   }
-  if (stats.row_max - stats.row_min < opt.min_row_span_px) {
-    out.status = Status::degenerate;
-    return out;
+  // The evidence that it is a tape of the configured size (host_maths.md 4, Evidence).
+  // max_width_factor <= 0: the runs' widths are not a tape's (synthetic runs), no width check.
+  const bool check_width = opt.max_width_factor > 0.0;
+  if (check_width) {
+    width_evidence(runs, cam, cfg, opt, g, out.yaw_rad, final_inliers, out.points_used, sc, ev);
   }
-  out.yaw_sigma_rad = yaw_sigma(stats, line, cam.fx(), g);
-  if (out.yaw_sigma_rad > opt.max_yaw_sigma_deg * kDegToRad) {
+  if (ev.visible_length_m < opt.min_visible_length_m) {
+    out.yaw_rad = out.offset_m = 0.0;
     out.status = Status::too_few_points;
     return out;
   }
-
-  // Yaw and offset, the vanishing point, the pitch estimate.
-  const Status st =
-      pose_from_centre_line(out.line_norm, out.pitch_rad, g.c, opt.max_abs_yaw_deg * kDegToRad,
-                            out.yaw_rad, out.offset_m);
-  if (st != Status::ok) {
-    out.status = st;
+  if (ev.visible_length_m < opt.min_coverage * ev.span_m ||
+      (opt.require_border_end && ev.ends_at_border == 0) ||
+      (check_width && ev.width_consistent < opt.min_width_consistent_fraction * ev.width_sampled)) {
+    out.yaw_rad = out.offset_m = 0.0;
+    out.status = Status::inconsistent;
     return out;
   }
   // Vanishing point of +X: normalised (tan psi / cos p, tan p) (seed 000 eq. 24-25,
@@ -140,13 +168,14 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
   if (g.cp > 1e-6) {
     set_vanishing_point(Eigen::Vector2d(std::tan(out.yaw_rad) / g.cp, g.sp / g.cp), cam, out);
   }
-  if (opt.estimate_pitch) pitch_from_edges(runs, cam, final_inliers, stats.used, sc, out);
+  if (opt.estimate_pitch) pitch_from_edges(runs, cam, final_inliers, out.points_used, sc, out);
   out.status = Status::ok;
   return out;
 }
 
 TapePose zenith_pose_from_moments(const stream::MomentResults& m, const CameraModel& cam,
-                                  const CameraConfig& cfg, bool use_mask) {
+                                  const CameraConfig& cfg, bool use_mask,
+                                  const ZenithOptions& opt) {
   TapePose out;
   out.method = "zenith_moments";
   out.pitch_rad = cfg.camera_pitch_deg * kDegToRad;
@@ -164,7 +193,7 @@ TapePose zenith_pose_from_moments(const stream::MomentResults& m, const CameraMo
   const double trace = mu20 + mu02;
   const double aniso = std::hypot(mu20 - mu02, 2.0 * mu11);
   // (l1 - l2) / (l1 + l2) of the covariance: 0 for a disc, -> 1 for a thin band.
-  if (!(trace > 0.0) || !(aniso > 0.5 * trace)) {
+  if (!(trace > 0.0) || !(aniso > opt.min_anisotropy * trace)) {
     out.status = Status::degenerate;
     return out;
   }
@@ -179,8 +208,47 @@ TapePose zenith_pose_from_moments(const stream::MomentResults& m, const CameraMo
   const Status st =
       pose_from_centre_line(out.line_norm, out.pitch_rad, cfg.ceiling_above_camera_m(),
                             85.0 * kDegToRad, out.yaw_rad, out.offset_m);
-  out.status = st;
-  if (st != Status::ok) return out;
+  if (st != Status::ok) {
+    out.yaw_rad = out.offset_m = 0.0;
+    out.status = st;
+    return out;
+  }
+  // Evidence: one straight band of the tape's width crossing the image.
+  TapeEvidence& ev = out.evidence;
+  const double l1 = 0.5 * (trace + aniso), l2 = std::max(0.0, 0.5 * (trace - aniso));
+  ev.band_width_px = std::sqrt(12.0 * l2);
+  ev.band_length_px = std::sqrt(12.0 * l1);
+  ev.band_fill = m00 / std::max(1e-9, ev.band_width_px * ev.band_length_px);
+  // Width across the band of a tape W wide at c above a zenith camera: the
+  // normal (sin theta, -cos theta) in pixels is W / c times fx, fy along it.
+  const double nx = std::sin(theta), ny = -std::cos(theta);
+  ev.band_width_predicted_px =
+      cfg.tape_width_m / cfg.ceiling_above_camera_m() * std::hypot(cam.fx() * nx, cam.fy() * ny);
+  {
+    // Chord of the image rectangle [-0.5, W-0.5] x [-0.5, H-0.5] through the
+    // centroid along (cos theta, sin theta).
+    const double dx = std::cos(theta), dy = std::sin(theta);
+    double t_lo = -1e18, t_hi = 1e18;
+    const auto clip = [&](double p, double d, double lo, double hi) {
+      if (std::abs(d) < 1e-12) return;
+      const double a = (lo - p) / d, b = (hi - p) / d;
+      t_lo = std::max(t_lo, std::min(a, b));
+      t_hi = std::min(t_hi, std::max(a, b));
+    };
+    clip(xb, dx, -0.5, cfg.image_width - 0.5);
+    clip(yb, dy, -0.5, cfg.image_height - 0.5);
+    ev.band_chord_px = std::max(0.0, t_hi - t_lo);
+  }
+  const bool width_ok = std::abs(ev.band_width_px - ev.band_width_predicted_px) <=
+                        opt.width_tolerance * ev.band_width_predicted_px + opt.width_slack_px;
+  const bool crosses = ev.band_length_px >= opt.min_chord_fraction * ev.band_chord_px;
+  const bool one_band = std::abs(ev.band_fill - 1.0) <= opt.fill_tolerance;
+  if (!width_ok || !crosses || !one_band) {
+    out.yaw_rad = out.offset_m = 0.0;
+    out.status = Status::inconsistent;
+    return out;
+  }
+  out.status = Status::ok;
   const double cp = std::cos(out.pitch_rad);
   if (cp > 1e-6) {
     set_vanishing_point(Eigen::Vector2d(std::tan(out.yaw_rad) / cp, std::tan(out.pitch_rad)), cam,

@@ -87,6 +87,13 @@ struct Scratch {
   Mask mask_a, mask_b;
   std::vector<MaskFit> memo;
   std::vector<Candidate> cands;
+  std::vector<std::pair<double, int>> along;      // (position along the tape, point), sorted
+  std::vector<double> ratios;                     // measured / predicted run widths
+  std::vector<double> weights;                    // sum_w per run pixel
+  std::vector<double> excess;                     // measured - predicted run widths, pixels
+  std::vector<std::pair<double, double>> widths;  // (predicted, measured) run widths, pixels
+  std::vector<size_t> piece_begin;                // index into `along` where each piece starts
+  std::vector<int> sampled;                       // points whose width is compared
 };
 
 // The pitch, the ceiling height and the image size every step reads.
@@ -246,10 +253,36 @@ InlierStats inlier_statistics(const Points& pts, const Mask& inliers, const Line
 // 0 when it cannot be computed (used > 0 required).
 double yaw_sigma(const InlierStats& s, const LineFit& line, double fx, const Geometry& g);
 
+// Position along the tape (metres, from the camera's foot point) of a
+// ceiling point seen on normalised row y, for a tape at yaw psi: the heading
+// frame's forward distance c (cos p + y sin p) / (sin p - y cos p) (section
+// 6; the lateral coordinate does not enter) over cos psi.
+double along_tape_m(double y, const Geometry& g, double cos_yaw);
+
+// Pieces of the inliers along the line: sorted by position along the tape,
+// split where consecutive inliers are more than 2 rows and more than 2 tape
+// widths apart (a branch crossing or a chain end gates a few rows; a gap is
+// longer). The longest piece and the pieces chained to it by gaps of at most
+// max_gap_m carry the line: the others are cleared from `inliers`. Fills the
+// piece fields of `ev` (pieces, pieces_dropped, visible_length_m, span_m,
+// max_gap_m). Returns true when a piece was dropped.
+bool select_pieces(const Points& pts, double tape_width_m, const TapePoseOptions& opt,
+                   const Geometry& g, double yaw_rad, Mask& inliers, Scratch& sc, TapeEvidence& ev);
+
+// Width evidence: up to 32 evenly spaced inlier runs, their edges
+// (x_start - 0.5, x_end + 0.5 on their row) undistorted; measured normalised
+// width against W (sin p - y cos p) / (c cos psi) (section 3). Slack
+// width_slack_px converted at the run's own distorted-to-undistorted scale.
+// Fills width_sampled, width_consistent, width_ratio_median of `ev`. Reuses
+// sc.u, sc.v, sc.left, sc.right, sc.ratios.
+void width_evidence(std::span<const stream::RunRecord> runs, const CameraModel& cam,
+                    const CameraConfig& cfg, const TapePoseOptions& opt, const Geometry& g,
+                    double yaw_rad, const Mask& inliers, int used, Scratch& sc, TapeEvidence& ev);
+
 // Pitch from the left/right edge lines of the inlier runs, intersected. The
 // +X direction in camera axes is (sin psi, sin p cos psi, cos p cos psi) so the
 // homogeneous intersection V (scaled to V_y > 0) gives p = atan2(V_y, V_z).
-// Sets out.pitch_est_* when the intersection gives a pitch in (0, 90 deg + 0.2).
+// Sets out.pitch_est_* when the intersection gives a pitch in (0, 90 deg].
 // Reuses sc.u, sc.v, sc.left, sc.right, sc.mask_b.
 void pitch_from_edges(std::span<const stream::RunRecord> runs, const CameraModel& cam,
                       const Mask& final_inliers, int used, Scratch& sc, TapePose& out);

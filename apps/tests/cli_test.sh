@@ -68,6 +68,22 @@ else
   bad "run matches truth"
 fi
 if ! grep -qi nan "$out"; then ok "no NaN in CSV"; else bad "no NaN in CSV"; fi
+# --track: random poses are no sequence. Expected statuses from truth.csv by
+# the tracking rule: lock on the first frame and after a jump; a pose that
+# moved more than 5 deg or 0.1 m from the held one is a jump.
+if $CEILNAV run --frames "$frames" --scene "$frames/scene.yaml" --out "$work/track.csv" --track 2>/dev/null; then
+  got=$(tail -n +2 "$work/track.csv" | sort | cut -d, -f2 | tr '\n' ' ')
+  want=$(tail -n +2 "$frames/truth.csv" | sort | awk -F, '
+    { if (!held) { s = "ok"; held = 1; y = $2; o = $3 }
+      else { dy = $2 - y; do_ = $3 - o; if (dy < 0) dy = -dy; if (do_ < 0) do_ = -do_;
+             if (dy > 5 * 3.14159265 / 180 || do_ > 0.1) { s = "jump"; held = 0 }
+             else { s = "ok"; y = $2; o = $3 } }
+      printf "%s ", s }')
+  [ "$got" = "$want" ] && [[ "$got" == *jump* ]] && ok "run --track: jumps where the truth moved beyond a frame's motion" ||
+    bad "run --track: jumps where the truth moved beyond a frame's motion" "got: $got want: $want"
+else
+  bad "run --track exit 0"
+fi
 
 # --overlay-every N: overlays/<frame name>.png beside the CSV for frames 0, N,
 # 2N, ...; the CSV is the same as without it; none by default.

@@ -224,7 +224,14 @@ TEST(TapePose, PitchFromExactEdges) {
     opt.max_width_factor = 0.0;
     const TapePose p = estimate_tape_pose(runs, cam, c, opt);
     ASSERT_EQ(p.status, Status::ok);
-    ASSERT_TRUE(p.pitch_est_valid);
+    EXPECT_NEAR(p.yaw_rad, 8 * kDeg, 1e-9);
+    if (pitch_deg == 90.0 && !p.pitch_est_valid) {
+      // The edges are parallel up to quantisation: the intersection may lie
+      // beyond 90 deg, which no camera pitch can be; such an estimate is not reported.
+      continue;
+    }
+    ASSERT_TRUE(p.pitch_est_valid) << pitch_deg;
+    EXPECT_LE(p.pitch_est_rad, 90.0 * kDeg);
     EXPECT_NEAR(p.pitch_est_rad, pitch_deg * kDeg, 0.5 * kDeg) << pitch_deg;
     std::printf("pitch %.0f deg from edges quantised to pixels: %.3f deg\n", pitch_deg,
                 p.pitch_est_rad / kDeg);

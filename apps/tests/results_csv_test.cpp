@@ -1,0 +1,100 @@
+// The results table of `ceilnav run`: pose columns only for ok results, the
+// zenith's by its own status, evidence columns whenever a line was fitted.
+#include "apps/results_csv.hpp"
+
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace ceilnav::app {
+namespace {
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string f;
+  while (std::getline(ss, f, ',')) out.push_back(f);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+// Header and row as name -> field.
+std::vector<std::pair<std::string, std::string>> table(const host::FrameOutcome& o) {
+  std::ostringstream out;
+  write_results_header(out);
+  write_results_row(out, "f.png", o);
+  std::istringstream in(out.str());
+  std::string h, r;
+  std::getline(in, h);
+  std::getline(in, r);
+  const auto hs = split(h), rs = split(r);
+  EXPECT_EQ(hs.size(), rs.size()) << r;
+  std::vector<std::pair<std::string, std::string>> t;
+  for (size_t i = 0; i < hs.size() && i < rs.size(); ++i) t.emplace_back(hs[i], rs[i]);
+  return t;
+}
+
+std::string field(const std::vector<std::pair<std::string, std::string>>& t,
+                  const std::string& name) {
+  for (const auto& [k, v] : t) {
+    if (k == name) return v;
+  }
+  ADD_FAILURE() << "no column " << name;
+  return "?";
+}
+
+host::FrameOutcome outcome(host::Status pose, std::optional<host::Status> zenith) {
+  host::FrameOutcome o;
+  o.results.valid = true;
+  o.pose.status = pose;
+  o.pose.yaw_rad = 0.1;
+  o.pose.offset_m = 0.2;
+  o.pose.evidence.runs = 50;
+  o.pose.evidence.span_m = 2.0;
+  o.pose.evidence.visible_length_m = 1.5;
+  o.pose.evidence.width_sampled = 40;
+  o.pose.evidence.width_consistent = 12;
+  o.pose.evidence.ends_at_border = 1;
+  if (zenith) {
+    o.zenith = host::TapePose{};
+    o.zenith->status = *zenith;
+    o.zenith->yaw_rad = 0.3;
+    o.zenith->offset_m = 0.4;
+  }
+  return o;
+}
+
+TEST(ResultsCsv, ZenithColumnsOnlyForAnOkZenithResult) {
+  const auto ok = table(outcome(host::Status::ok, host::Status::ok));
+  EXPECT_EQ(field(ok, "zenith_status"), "ok");
+  EXPECT_EQ(field(ok, "zenith_yaw_rad"), "0.3");
+  EXPECT_EQ(field(ok, "zenith_offset_m"), "0.4");
+  // The zenith result's own status empties its columns, whatever the centre line says.
+  const auto bad = table(outcome(host::Status::ok, host::Status::inconsistent));
+  EXPECT_EQ(field(bad, "status"), "ok");
+  EXPECT_EQ(field(bad, "yaw_rad"), "0.1");
+  EXPECT_EQ(field(bad, "zenith_status"), "inconsistent");
+  EXPECT_EQ(field(bad, "zenith_yaw_rad"), "");
+  EXPECT_EQ(field(bad, "zenith_offset_m"), "");
+  const auto none = table(outcome(host::Status::ok, std::nullopt));
+  EXPECT_EQ(field(none, "zenith_status"), "");
+}
+
+TEST(ResultsCsv, PoseColumnsEmptyWhenNotOkEvidenceKept) {
+  const auto t = table(outcome(host::Status::inconsistent, host::Status::degenerate));
+  EXPECT_EQ(field(t, "status"), "inconsistent");
+  for (const char* c : {"yaw_rad", "offset_m", "pitch_rad", "vp_u", "vp_v", "pitch_est_rad",
+                        "residual_px", "zenith_yaw_rad", "zenith_offset_m"}) {
+    EXPECT_EQ(field(t, c), "") << c;
+  }
+  EXPECT_EQ(field(t, "visible_length_m"), "1.5");
+  EXPECT_EQ(field(t, "coverage"), "0.75");
+  EXPECT_EQ(field(t, "width_consistent"), "12/40");
+  EXPECT_EQ(field(t, "ends_at_border"), "1");
+}
+
+}  // namespace
+}  // namespace ceilnav::app
