@@ -83,5 +83,41 @@ TEST(ThresholdPolicy, RerunProcessesAStepTwiceWithItsOwnTable) {
   }
 }
 
+// The seed's one-pass table on a lit ceiling whose exposure steps by x2 and
+// x0.5: after a step up the previous table thresholds below the new ceiling
+// (the mask is mostly ceiling). Such frames must not be ok with a wrong pose;
+// those that are ok are right.
+TEST(ThresholdPolicy, OnePassTableNeverClaimsAWrongPose) {
+  const CameraConfig cam = golden::default_camera();
+  const golden::CeilingScene scene = golden::single_tape_scene(cam.tape_width_m);
+  Navigator nav = navigator(ThresholdPolicy::previous_frame);
+  // `ceilnav exposure`'s cycle: steps of x2, x0.5, x1.41 and x0.71.
+  const double r2 = std::sqrt(2.0), h2 = std::sqrt(0.5);
+  const std::vector<double> exposures{1.0, 2.0, 1.0, 0.5, 1.0, r2, 2.0, r2, 1.0, h2, 0.5, h2,
+                                      1.0, 2.0, 1.0, 0.5, 1.0, r2, 2.0, r2, 1.0, h2, 0.5, h2};
+  const std::vector<golden::DrivePose> drive =
+      golden::default_drive(static_cast<int>(exposures.size()));
+  int ok = 0, rejected_after_step_up = 0;
+  for (size_t i = 0; i < exposures.size(); ++i) {
+    const golden::CameraPose& pose = drive[i].pose;
+    golden::RenderParams p = golden::default_render_params();
+    p.background_grey = 60.0 * exposures[i];
+    p.tape_gain = 300.0 * exposures[i];
+    p.noise_seed = 1000003u + i;
+    const FrameOutcome r = nav.process(golden::render_frame(cam, scene, pose, p));
+    if (r.pose.status == Status::ok) {
+      ++ok;
+      const golden::FrameTruth t = golden::truth_for(cam, scene, pose);
+      EXPECT_LT(std::abs(std::remainder(r.pose.yaw_rad - t.yaw_rad, 2.0 * M_PI)), 0.5 * M_PI / 180)
+          << i;
+      EXPECT_LT(std::abs(r.pose.offset_m - t.offset_m), 0.02) << i;
+    } else if (i > 0 && exposures[i] > exposures[i - 1]) {
+      ++rejected_after_step_up;
+    }
+  }
+  EXPECT_GT(ok, 0);                      // the table does work between steps
+  EXPECT_GT(rejected_after_step_up, 0);  // and a step up does defeat it
+}
+
 }  // namespace
 }  // namespace ceilnav::host
