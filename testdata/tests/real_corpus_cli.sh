@@ -34,35 +34,35 @@ for p in 45 90; do
 done
 cp "$here/../real/cycloid_ceiltrack/camera.yaml" "$work/cycloid_lens.yaml"
 
+# expect_no_ok NAME CSV N: the CSV has N rows and none of them is ok.
+expect_no_ok() {
+  local name=$1 csv=$2 n=$3 rows counts
+  rows=$(($(wc -l <"$csv") - 1))
+  counts=$(status_counts "$csv" | tr '\n' ' ')
+  if [ "$rows" -eq "$n" ] && ! status_counts "$csv" | grep -qw ok; then
+    ok "$name: no ok in $rows frames ($counts)"
+  else
+    bad "$name: $rows of $n rows" "$counts"
+  fi
+}
+
 for set in $sets; do
   n=$(ls "$work/corpus/$set" | wc -l)
   for scene in pitch45 pitch90 cycloid_lens; do
     csv=$work/run_${set}_$scene.csv
-    if ! "$CEILNAV" run --frames "$work/corpus/$set" --scene "$work/$scene.yaml" --out "$csv" \
+    if "$CEILNAV" run --frames "$work/corpus/$set" --scene "$work/$scene.yaml" --out "$csv" \
         >/dev/null 2>"$work/err"; then
-      bad "run $set $scene" "$(cat "$work/err")"
-      continue
-    fi
-    rows=$(($(wc -l <"$csv") - 1))
-    counts=$(status_counts "$csv" | tr '\n' ' ')
-    if [ "$rows" -eq "$n" ] && ! status_counts "$csv" | grep -qw ok; then
-      ok "run $set $scene: no ok in $rows frames ($counts)"
+      expect_no_ok "run $set $scene" "$csv" "$n"
     else
-      bad "run $set $scene: $rows of $n rows" "$counts"
+      bad "run $set $scene" "$(cat "$work/err")"
     fi
   done
   out=$work/pattern_$set
-  if ! "$CEILNAV" pattern --frames "$work/corpus/$set" --scene "$work/station/scene.yaml" \
+  if "$CEILNAV" pattern --frames "$work/corpus/$set" --scene "$work/station/scene.yaml" \
       --database "$work/station/patterns.yaml" --out "$out" --quiet >/dev/null 2>"$work/err"; then
-    bad "pattern $set" "$(cat "$work/err")"
-    continue
-  fi
-  rows=$(($(wc -l <"$out/pattern.csv") - 1))
-  counts=$(status_counts "$out/pattern.csv" | tr '\n' ' ')
-  if [ "$rows" -eq "$n" ] && ! status_counts "$out/pattern.csv" | grep -qw ok; then
-    ok "pattern $set: no ok in $rows frames ($counts)"
+    expect_no_ok "pattern $set" "$out/pattern.csv" "$n"
   else
-    bad "pattern $set: $rows of $n rows" "$counts"
+    bad "pattern $set" "$(cat "$work/err")"
   fi
 done
 
