@@ -65,6 +65,36 @@ CeilingScene lamp_grid_scene(const LampGridOptions& o) {
   return s;
 }
 
+std::vector<std::pair<std::string, CeilingScene>> distractor_scenes() {
+  std::vector<std::pair<std::string, CeilingScene>> scenes;
+  scenes.emplace_back("lamp grid", lamp_grid_scene());
+  LampGridOptions panels;
+  panels.width_m = 0.6;
+  panels.pitch_x_m = 2.4;
+  panels.pitch_y_m = 2.4;
+  scenes.emplace_back("panels", lamp_grid_scene(panels));
+  LampGridOptions tubes;
+  tubes.length_m = 1.2;
+  tubes.width_m = 0.03;
+  tubes.pitch_x_m = 3.0;
+  tubes.pitch_y_m = 2.0;
+  scenes.emplace_back("tubes 3 cm", lamp_grid_scene(tubes));
+  LampGridOptions bars;
+  bars.length_m = 1.2;
+  bars.width_m = 0.15;
+  bars.pitch_x_m = 1.5;
+  bars.pitch_y_m = 100.0;  // one row of bars end to end with 0.3 m gaps
+  bars.y_min = bars.y_max = 0.3;
+  scenes.emplace_back("bar row", lamp_grid_scene(bars));
+  CeilingScene dashes;
+  for (double x = -6.0; x < 40.0; x += 1.2) dashes.tapes.push_back({x, 0.0, x + 0.3, 0.0, 0.05});
+  scenes.emplace_back("dashes", dashes);
+  CeilingScene wide;
+  wide.tapes.push_back({-10.0, 0.0, 100.0, 0.0, 0.10});
+  scenes.emplace_back("10 cm strip", wide);
+  return scenes;
+}
+
 double pitch_rad(const host::CameraConfig& camera) {
   return camera.camera_pitch_deg * std::numbers::pi / 180.0;
 }

@@ -85,6 +85,14 @@ struct LampGridOptions {
 };
 CeilingScene lamp_grid_scene(const LampGridOptions& options = {});
 
+// Ceilings without the configured tape that a threshold still sees as bright
+// strips: the distractors of the tape evidence tests and survey
+// (docs/results.md, "Evidence"). In order: a lamp grid (0.6 x 0.1 m), square
+// panels (0.6 m), bare tubes of 1.2 m x 3 cm ("tubes 3 cm", a known false
+// accept when they run out of the view), a row of 1.2 x 0.15 m bars end to
+// end, 5 cm dashes 0.3 m on / 0.9 m off, and a 10 cm strip (twice the tape).
+std::vector<std::pair<std::string, CeilingScene>> distractor_scenes();
+
 double pitch_rad(const host::CameraConfig& camera);
 Eigen::Vector3d camera_centre(const host::CameraConfig& camera, const CameraPose& pose);
 

@@ -67,33 +67,7 @@ int main() {
     c.camera_pitch_deg = p;
     cams.push_back(c);
   }
-  // Distractor renders (as the test, plus tubes of tape width).
-  std::vector<std::pair<std::string, golden::CeilingScene>> scenes;
-  scenes.emplace_back("lamp grid", golden::lamp_grid_scene());
-  golden::LampGridOptions panels;
-  panels.width_m = 0.6;
-  panels.pitch_x_m = 2.4;
-  panels.pitch_y_m = 2.4;
-  scenes.emplace_back("panels", golden::lamp_grid_scene(panels));
-  golden::LampGridOptions tubes;
-  tubes.length_m = 1.2;
-  tubes.width_m = 0.03;
-  tubes.pitch_x_m = 3.0;
-  tubes.pitch_y_m = 2.0;
-  scenes.emplace_back("tubes 3 cm", golden::lamp_grid_scene(tubes));
-  golden::LampGridOptions bars;
-  bars.length_m = 1.2;
-  bars.width_m = 0.15;
-  bars.pitch_x_m = 1.5;
-  bars.pitch_y_m = 100;
-  bars.y_min = bars.y_max = 0.3;
-  scenes.emplace_back("bar row", golden::lamp_grid_scene(bars));
-  golden::CeilingScene dashes;
-  for (double x = -6.0; x < 40.0; x += 1.2) dashes.tapes.push_back({x, 0.0, x + 0.3, 0.0, 0.05});
-  scenes.emplace_back("dashes", dashes);
-  golden::CeilingScene wide;
-  wide.tapes.push_back({-10, 0, 100, 0, 0.10});
-  scenes.emplace_back("10 cm strip", wide);
+  const auto scenes = golden::distractor_scenes();
   std::vector<golden::CameraPose> poses;
   for (int i = 0; i < 8; ++i)
     poses.push_back({0.37 * i, -0.6 + 0.17 * i, (-30.0 + 8.0 * i) * kDeg});
