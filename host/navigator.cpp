@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
@@ -32,7 +33,7 @@ void Navigator::apply_track(TapePose& pose) {
     return;
   }
   if (track_) {
-    const double dyaw = std::abs(pose.yaw_rad - track_->yaw_rad) * 180.0 / 3.14159265358979323846;
+    const double dyaw = std::abs(pose.yaw_rad - track_->yaw_rad) * 180.0 / std::numbers::pi;
     const double doff = std::abs(pose.offset_m - track_->offset_m);
     if (dyaw > options_.track.max_yaw_step_deg || doff > options_.track.max_offset_step_m) {
       pose.status = Status::jump;
