@@ -5,7 +5,7 @@ include(CMakePackageConfigHelpers)
 
 set(ceilnav_exported ceilnav_warnings ceilnav_common ceilnav_fixedpoint ceilnav_regs ceilnav_stream
                      ceilnav_host ceilnav_drivers ceilnav_golden ceilnav_host_pattern
-                     ceilnav_golden_pattern)
+                     ceilnav_golden_pattern ceilnav_nav)
 foreach(t IN LISTS ceilnav_exported)
   string(REGEX REPLACE "^ceilnav_" "" short ${t})
   set_target_properties(${t} PROPERTIES EXPORT_NAME ${short})
@@ -15,7 +15,7 @@ install(TARGETS ${ceilnav_exported} EXPORT ceilnavTargets
         INCLUDES DESTINATION ${CEILNAV_INSTALL_INCLUDEDIR})
 install(TARGETS ceilnav RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
-foreach(dir IN ITEMS common fixedpoint stream host drivers golden)
+foreach(dir IN ITEMS common fixedpoint stream host drivers golden nav)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/ DESTINATION ${CEILNAV_INSTALL_INCLUDEDIR}/${dir}
           FILES_MATCHING PATTERN "*.hpp" PATTERN "tests" EXCLUDE
           PATTERN "rtl_backend.hpp" EXCLUDE PATTERN "verilated_*.hpp" EXCLUDE)  # need Verilator

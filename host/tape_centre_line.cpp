@@ -113,6 +113,25 @@ double yaw_sigma(const InlierStats& s, const LineFit& line, double fx, const Geo
   return 0.0;
 }
 
+Eigen::Matrix2d pose_covariance(const InlierStats& s, const LineFit& line, double fx,
+                                const Geometry& g) {
+  const double sp = g.sp, cp = g.cp;
+  const double nn = s.used, mean_y = nn > 0 ? s.sy / nn : 0.0, s_yy = s.syy - nn * mean_y * mean_y;
+  if (!(s.used > 2) || !(s_yy > 0.0)) return Eigen::Matrix2d::Zero();
+  const double s2 = s.ss / (fx * fx) / (nn - 2.0);
+  Eigen::Matrix2d cov_ab;
+  cov_ab << s2 / s_yy, -s2 * mean_y / s_yy, -s2 * mean_y / s_yy,
+      s2 * (1.0 / nn + mean_y * mean_y / s_yy);
+  const double t = line.a * sp + line.b * cp, psi = std::atan(t);
+  const double u = line.b * sp - line.a * cp;  // offset = c cos psi u
+  const double dpsi_da = sp / (1.0 + t * t), dpsi_db = cp / (1.0 + t * t);
+  Eigen::Matrix2d j;
+  j << dpsi_da, dpsi_db, -g.c * (std::sin(psi) * u * dpsi_da + std::cos(psi) * cp),
+      -g.c * (std::sin(psi) * u * dpsi_db - std::cos(psi) * sp);
+  const Eigen::Matrix2d cov = j * cov_ab * j.transpose();
+  return cov.allFinite() ? cov : Eigen::Matrix2d::Zero();
+}
+
 double along_tape_m(double y, const Geometry& g, double cos_yaw) {
   return g.c * (g.cp + y * g.sp) / ((g.sp - y * g.cp) * cos_yaw);
 }

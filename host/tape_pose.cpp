@@ -116,6 +116,7 @@ TapePose estimate_tape_pose(std::span<const stream::RunRecord> runs, const Camer
     if (stats.row_max - stats.row_min < opt.min_row_span_px) return Status::degenerate;
     out.yaw_sigma_rad = yaw_sigma(stats, line, cam.fx(), g);
     if (out.yaw_sigma_rad > opt.max_yaw_sigma_deg * kDegToRad) return Status::too_few_points;
+    out.covariance = pose_covariance(stats, line, cam.fx(), g);
     return pose_from_centre_line(out.line_norm, out.pitch_rad, g.c, opt.max_abs_yaw_deg * kDegToRad,
                                  out.yaw_rad, out.offset_m);
   };

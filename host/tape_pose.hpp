@@ -130,7 +130,12 @@ struct TapePose {
   double vp_u_px = 0.0, vp_v_px = 0.0;  // vanishing point of +X, ideal (undistorted) pixels
   int points_total = 0, points_used = 0;
   double residual_rms_px = 0.0;
-  double yaw_sigma_rad = 0.0;                // standard error of the yaw from the inliers' scatter
+  double yaw_sigma_rad = 0.0;  // standard error of the yaw from the inliers' scatter
+  // Covariance of (yaw_rad, offset_m) from the inliers' scatter about the
+  // line (centre-line method; zero where not computed): the statistical part
+  // only — the ceiling height's and the pitch's errors scale the offset and
+  // tilt the yaw on top of it (docs/host_maths.md).
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
   Eigen::Vector3d line_norm{0.0, 0.0, 0.0};  // centre line l, l . (x, y, 1) = 0, l1^2 + l2^2 = 1
   TapeEvidence evidence;
 };

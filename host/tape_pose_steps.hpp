@@ -253,6 +253,16 @@ InlierStats inlier_statistics(const Points& pts, const Mask& inliers, const Line
 // 0 when it cannot be computed (used > 0 required).
 double yaw_sigma(const InlierStats& s, const LineFit& line, double fx, const Geometry& g);
 
+// The covariance of (yaw, offset) from the same scatter (TapePose::covariance):
+// with t = tan psi = a sin p + b cos p and offset = c cos psi (b sin p - a cos p)
+// (pose_from_centre_line for the line x = a y + b), J = d(psi, offset)/d(a, b),
+//   d psi/da = sin p / (1 + t^2),  d psi/db = cos p / (1 + t^2),
+//   d offset/da = -c (sin psi (b sin p - a cos p) d psi/da + cos psi cos p),
+//   d offset/db = -c (sin psi (b sin p - a cos p) d psi/db - cos psi sin p),
+// and cov = J cov(a, b) J^T. Zero when it cannot be computed.
+Eigen::Matrix2d pose_covariance(const InlierStats& s, const LineFit& line, double fx,
+                                const Geometry& g);
+
 // Position along the tape (metres, from the camera's foot point) of a
 // ceiling point seen on normalised row y, for a tape at yaw psi: the heading
 // frame's forward distance c (cos p + y sin p) / (sin p - y cos p) (section
