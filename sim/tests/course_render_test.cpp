@@ -160,6 +160,30 @@ TEST(DriveFrame, AHigherCeilingZoneScalesTheMeasuredOffset) {
   }
 }
 
+TEST(DriveFrame, RandomCoursesMeasureAsTheirTruth) {
+  // Held-out courses: on each random course's cross branch (tape C), 0.1 m
+  // right of it and 2 deg off its direction; the host's offset scaled by
+  // the ceiling it does not know (configured 2.5 m).
+  const host::CameraConfig cam = camera(45.0);
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    const Course course = random_course(seed, 80.0 + 20.0 * static_cast<double>(seed));
+    const Point2 &a = course.tapes[2].points[0], &b = course.tapes[2].points[1];
+    const double dir = std::atan2(b.y_m - a.y_m, b.x_m - a.x_m);
+    const nav::Pose2 robot{0.5 * (a.x_m + b.x_m) + 0.1 * std::sin(dir),
+                           0.5 * (a.y_m + b.y_m) - 0.1 * std::cos(dir), dir + 2.0 * kDeg};
+    const cv::Mat frame =
+        render_drive_frame(cam, course, {}, still(robot), 0.0, 0.0, drive_params());
+    const TapeTruth truth = tape_truth(cam, course, camera_pose(cam, {}, robot));
+    ASSERT_TRUE(truth.in_view) << seed;
+    EXPECT_EQ(truth.tape, 2) << seed;
+    const Measured m = measure(cam, frame);
+    ASSERT_EQ(m.status, host::Status::ok) << seed;
+    EXPECT_NEAR(m.yaw_rad, truth.yaw_rad, kYawTolerance) << seed;
+    EXPECT_NEAR(m.offset_m, truth.offset_m * 2.0 / truth.ceiling_above_camera_m, kOffsetTolerance)
+        << seed;
+  }
+}
+
 // Rows where a column profile crosses `level` going from `from` toward
 // `to` (linear interpolation between pixels).
 double crossing(const cv::Mat& image, int col, int from, int to, double level) {
