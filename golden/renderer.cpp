@@ -190,6 +190,11 @@ struct TapeFrame {
   double ax, ay, ex, ey;
   double length, half_width, reflectance;
   double min_x, max_x, min_y, max_y;  // bounding box
+  // k = this strip's ceiling above the camera / the default ceiling's: a ray
+  // meets the strip's plane at C + k (p - C), p its point on the default
+  // plane, at range k r (radiance / k^2). scaled = (k != 1).
+  double scale = 1.0, inv_scale2 = 1.0;
+  bool scaled = false;
   bool contains(double px, double py) const {
     const double dx = px - ax, dy = py - ay;
     const double s = dx * ex + dy * ey;
@@ -198,8 +203,10 @@ struct TapeFrame {
   }
 };
 
-std::vector<TapeFrame> tape_frames(const CeilingScene& scene) {
+std::vector<TapeFrame> tape_frames(const CeilingScene& scene, const host::CameraConfig& camera,
+                                   double camera_z_m) {
   std::vector<TapeFrame> frames;
+  const double default_above = camera.ceiling_height_m - camera_z_m;
   for (const TapeSegment& tape : scene.tapes) {
     const double dx = tape.x1_m - tape.x0_m, dy = tape.y1_m - tape.y0_m;
     const double length = std::hypot(dx, dy);
@@ -211,6 +218,16 @@ std::vector<TapeFrame> tape_frames(const CeilingScene& scene) {
     frames.push_back({tape.x0_m, tape.y0_m, dx / length, dy / length, length, hw, tape.reflectance,
                       std::min(tape.x0_m, tape.x1_m) - hw, std::max(tape.x0_m, tape.x1_m) + hw,
                       std::min(tape.y0_m, tape.y1_m) - hw, std::max(tape.y0_m, tape.y1_m) + hw});
+    if (tape.ceiling_height_m != 0.0) {
+      const double above = tape.ceiling_height_m - camera_z_m;
+      if (!(above > 0.0) || !std::isfinite(above)) {
+        throw std::invalid_argument("renderer: a tape's ceiling must be above the camera");
+      }
+      TapeFrame& f = frames.back();
+      f.scale = above / default_above;
+      f.inv_scale2 = 1.0 / (f.scale * f.scale);
+      f.scaled = f.scale != 1.0;
+    }
   }
   return frames;
 }
@@ -232,17 +249,18 @@ struct CeilingGeometry {
   }
 };
 
-cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& scene,
-                        const CameraPose& pose, const RenderParams& params, RenderStats& stats) {
+cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
+                    const CameraView& view, const RenderParams& params, RenderStats& stats) {
   const int w = camera.image_width, h = camera.image_height;
   const bool distorted = params.apply_distortion && camera.has_distortion();
   const std::shared_ptr<const RayTable> table = ray_table(camera, distorted);
-  const std::vector<TapeFrame> tapes = tape_frames(scene);
-  const Eigen::Matrix3d r = world_to_camera_rotation(pose.yaw_rad, pitch_rad(camera));
-  const CeilingGeometry geo{pose.x_m, pose.y_m, camera.ceiling_above_camera_m(),
-                            r(0, 0),  r(0, 1),  r(0, 2),
-                            r(1, 0),  r(1, 1),  r(1, 2),
-                            r(2, 0),  r(2, 1),  r(2, 2)};
+  const double cam_x = view.centre.x(), cam_y = view.centre.y();
+  const double above = camera.ceiling_height_m - view.centre.z();
+  if (!(above > 0.0)) throw std::invalid_argument("renderer: the ceiling must be above the camera");
+  const std::vector<TapeFrame> tapes = tape_frames(scene, camera, view.centre.z());
+  const Eigen::Matrix3d& r = view.world_to_camera;
+  const CeilingGeometry geo{cam_x,   cam_y,   above,   r(0, 0), r(0, 1), r(0, 2),
+                            r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2)};
   const int n = params.supersample;
   const double inv_n = 1.0 / n;
 
@@ -267,7 +285,7 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& sc
       // convex quadrilateral on the ceiling (a projective image of a convex set
       // that does not cross the horizon), so its corners decide inside/outside
       // of each (convex) tape exactly.
-      double inside_reflectance = 0.0;
+      double inside_reflectance = 0.0, inside_weight = 1.0;  // weight: 1 / k^2
       const std::vector<int>* mixed = &candidates;
       candidates.clear();
       if (params.adaptive_sampling) {
@@ -294,13 +312,29 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& sc
           const double max_y = std::max({qy[0], qy[1], qy[2], qy[3]});
           for (std::size_t t = 0; t < tapes.size(); ++t) {
             const TapeFrame& tape = tapes[t];
-            if (max_x < tape.min_x || min_x > tape.max_x || max_y < tape.min_y ||
-                min_y > tape.max_y) {
+            // The footprint on this strip's plane: C + k (q - C).
+            std::array<double, 4> scaled_x{}, scaled_y{};
+            const double* sx = qx.data();
+            const double* sy = qy.data();
+            double bx0 = min_x, bx1 = max_x, by0 = min_y, by1 = max_y;
+            if (tape.scaled) {
+              for (std::size_t c = 0; c < 4; ++c) {
+                scaled_x[c] = cam_x + tape.scale * (qx[c] - cam_x);
+                scaled_y[c] = cam_y + tape.scale * (qy[c] - cam_y);
+              }
+              sx = scaled_x.data();
+              sy = scaled_y.data();
+              bx0 = cam_x + tape.scale * (min_x - cam_x);
+              bx1 = cam_x + tape.scale * (max_x - cam_x);
+              by0 = cam_y + tape.scale * (min_y - cam_y);
+              by1 = cam_y + tape.scale * (max_y - cam_y);
+            }
+            if (bx1 < tape.min_x || bx0 > tape.max_x || by1 < tape.min_y || by0 > tape.max_y) {
               continue;
             }
             int s_below = 0, s_above = 0, t_below = 0, t_above = 0;
             for (std::size_t c = 0; c < 4; ++c) {
-              const double dx = qx[c] - tape.ax, dy = qy[c] - tape.ay;
+              const double dx = sx[c] - tape.ax, dy = sy[c] - tape.ay;
               const double s = dx * tape.ex + dy * tape.ey;
               const double tt = dy * tape.ex - dx * tape.ey;
               s_below += s < 0.0;
@@ -310,7 +344,10 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& sc
             }
             if (s_below == 4 || s_above == 4 || t_below == 4 || t_above == 4) continue;
             if (s_below + s_above + t_below + t_above == 0) {
-              inside_reflectance = std::max(inside_reflectance, tape.reflectance);
+              if (tape.reflectance > inside_reflectance) {
+                inside_reflectance = tape.reflectance;
+                inside_weight = tape.inv_scale2;
+              }
             } else {
               candidates.push_back(static_cast<int>(t));
             }
@@ -335,7 +372,7 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& sc
                       inv_r2);
               sum += inv_r2;
             }
-            out[i] = params.tape_gain * inside_reflectance * 0.25 * sum;
+            out[i] = params.tape_gain * inside_reflectance * 0.25 * (sum * inside_weight);
             ++stats.interior_pixels;
             stats.samples += 4;
             continue;
@@ -359,14 +396,18 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& sc
                        inv_r2)) {
             continue;
           }
-          double reflectance = inside_reflectance;
+          double reflectance = inside_reflectance, weight = inside_weight;
           for (int t : *mixed) {
             const TapeFrame& tape = tapes[static_cast<std::size_t>(t)];
-            if (tape.reflectance > reflectance && tape.contains(px, py)) {
+            if (tape.reflectance > reflectance &&
+                (tape.scaled ? tape.contains(cam_x + tape.scale * (px - cam_x),
+                                             cam_y + tape.scale * (py - cam_y))
+                             : tape.contains(px, py))) {
               reflectance = tape.reflectance;
+              weight = tape.inv_scale2;
             }
           }
-          sum += reflectance * inv_r2;
+          sum += reflectance * inv_r2 * weight;
         }
       }
       out[i] = params.tape_gain * sum * inv_n * inv_n;
@@ -405,9 +446,28 @@ cv::Mat render_float(const host::CameraConfig& camera, const CeilingScene& scene
     throw std::invalid_argument("render: blur and noise sigmas must be >= 0, grey levels finite");
   }
   RenderStats local_stats;
-  cv::Mat image = render_radiance(camera, scene, pose, params, local_stats);
+  cv::Mat image = radiance_of(camera, scene, camera_view(camera, pose), params, local_stats);
   if (stats != nullptr) *stats = local_stats;
   finish_render(image, params);
+  return image;
+}
+
+CameraView camera_view(const host::CameraConfig& camera, const CameraPose& pose) {
+  return {camera_centre(camera, pose), world_to_camera_rotation(pose.yaw_rad, pitch_rad(camera))};
+}
+
+cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& scene,
+                        const CameraView& view, const RenderParams& params, RenderStats* stats) {
+  check_camera(camera);
+  if (params.supersample < 1 || params.supersample > 64) {
+    throw std::invalid_argument("render: supersample must be in [1, 64]");
+  }
+  if (!view.centre.allFinite() || !view.world_to_camera.allFinite()) {
+    throw std::invalid_argument("render: the camera view must be finite");
+  }
+  RenderStats local_stats;
+  cv::Mat image = radiance_of(camera, scene, view, params, local_stats);
+  if (stats != nullptr) *stats = local_stats;
   return image;
 }
 

@@ -83,6 +83,28 @@ cv::Mat render_float(const host::CameraConfig& camera, const CeilingScene& scene
                      const CameraPose& pose, const RenderParams& params,
                      RenderStats* stats = nullptr);
 
+// A camera in any orientation: its centre in the world and the world ->
+// camera rotation (rows: the camera's x right, y down, z forward axes in world
+// coordinates; X_cam = R (X_world - centre)). For a robot's camera with mount
+// errors in yaw, pitch and roll, or at another height than the CameraConfig's
+// (the config's intrinsics and ceiling_height_m still apply).
+struct CameraView {
+  Eigen::Vector3d centre;
+  Eigen::Matrix3d world_to_camera;
+};
+// The view of a CameraPose: camera_centre and world_to_camera_rotation(yaw,
+// pitch of the config).
+CameraView camera_view(const host::CameraConfig& camera, const CameraPose& pose);
+
+// The tape radiance alone (CV_64FC1, no background, blur or noise) seen from
+// `view`: render_float(camera, scene, pose) is exactly (bit for bit)
+// finish_render(render_radiance(camera, scene, camera_view(camera, pose))).
+// For sums of several views (motion blur) finished once. Throws
+// std::invalid_argument as render_float, and for a non-finite view.
+cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& scene,
+                        const CameraView& view, const RenderParams& params,
+                        RenderStats* stats = nullptr);
+
 // The camera's 8-bit frame: render_float rounded to nearest and saturated,
 // CV_8UC1, image_height x image_width.
 cv::Mat render_frame(const host::CameraConfig& camera, const CeilingScene& scene,

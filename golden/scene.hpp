@@ -23,6 +23,10 @@ struct TapeSegment {
   double x0_m, y0_m, x1_m, y1_m;
   double width_m;
   double reflectance = 1.0;
+  // The height above the floor of the ceiling this strip is on; 0: the
+  // CameraConfig's ceiling_height_m (a ceiling with height steps,
+  // docs/renderer.md "Height zones").
+  double ceiling_height_m = 0.0;
 };
 
 struct CeilingScene {

@@ -687,6 +687,83 @@ TEST(GoldenRenderer, AdaptiveSamplingEqualsFullSampling) {
   }
 }
 
+TEST(GoldenRenderer, RadianceOfTheViewFinishedOnceIsRenderFloat) {
+  const host::CameraConfig camera = make_camera(40.0, true);
+  const CeilingScene scene = corridor_scene(0.05, {.second_tape = true});
+  const CameraPose pose{5.2, 0.21, -0.15};
+  RenderParams params;  // blur and noise on
+  RenderStats stats_float, stats_radiance;
+  const cv::Mat expected = render_float(camera, scene, pose, params, &stats_float);
+  cv::Mat image =
+      render_radiance(camera, scene, camera_view(camera, pose), params, &stats_radiance);
+  finish_render(image, params);
+  EXPECT_EQ(cv::norm(image, expected, cv::NORM_INF), 0.0);
+  EXPECT_EQ(stats_radiance.edge_pixels, stats_float.edge_pixels);
+  EXPECT_EQ(stats_radiance.samples, stats_float.samples);
+}
+
+// Pixels of two renders that differ by more than `tolerance`.
+int pixels_differing(const cv::Mat& a, const cv::Mat& b, double tolerance) {
+  cv::Mat diff;
+  cv::absdiff(a, b, diff);
+  return cv::countNonZero(diff > tolerance);
+}
+
+TEST(GoldenRenderer, AStripOnItsOwnCeilingHeightIsSeenAsOnThatCeiling) {
+  // A strip with ceiling_height_m = 3.4 under a configured 3.0 m ceiling
+  // renders as the same strip under a configured 3.4 m ceiling: the same
+  // rays, points scaled from the camera by k = 2.9 / 2.5, radiance / k^2.
+  for (const double pitch : {35.0, 90.0}) {
+    host::CameraConfig camera = make_camera(pitch, true);
+    CeilingScene own;
+    own.tapes.push_back({-5.0, 0.1, 30.0, 0.3, 0.05, 1.0, 3.4});
+    own.tapes.push_back({2.0, -3.0, 2.5, 3.0, 0.08, 1.5, 3.4});
+    CeilingScene plain = own;
+    for (TapeSegment& t : plain.tapes) t.ceiling_height_m = 0.0;
+    const CameraPose pose{0.3, -0.1, 0.2};
+    const RenderParams params = exact_params(8);
+    const cv::Mat scaled = render_float(camera, own, pose, params);
+    camera.ceiling_height_m = 3.4;
+    const cv::Mat reference = render_float(camera, plain, pose, params);
+    double peak = 0.0;
+    cv::minMaxLoc(reference, nullptr, &peak);
+    EXPECT_GT(peak, 60.0);
+    // The same samples: equal but for rounding (a sample on an edge to the
+    // last bit may flip).
+    EXPECT_LE(pixels_differing(scaled, reference, 1e-9 * peak), 2) << pitch;
+    // Its height is what matters: at the configured height it is the plain strip.
+    for (TapeSegment& t : own.tapes) t.ceiling_height_m = 3.4;
+    EXPECT_EQ(cv::norm(render_float(camera, own, pose, params), reference, cv::NORM_INF), 0.0);
+  }
+}
+
+TEST(GoldenRenderer, RollAboutAZenithAxisIsAYawTurn) {
+  // At pitch 90 deg a roll by phi about the optical axis is the yaw psi + phi.
+  const host::CameraConfig camera = make_camera(90.0, true);
+  const CeilingScene scene = corridor_scene(0.05, {.second_tape = true});
+  const CameraPose pose{9.8, -0.2, 0.3};
+  const double phi = 0.1;
+  CameraView view = camera_view(camera, pose);
+  Eigen::Matrix3d roll;
+  roll << std::cos(phi), std::sin(phi), 0.0, -std::sin(phi), std::cos(phi), 0.0, 0.0, 0.0, 1.0;
+  view.world_to_camera = roll * view.world_to_camera;
+  const RenderParams params = exact_params(8);
+  const cv::Mat rolled = render_radiance(camera, scene, view, params);
+  const cv::Mat turned =
+      render_radiance(camera, scene, camera_view(camera, {9.8, -0.2, 0.3 + phi}), params);
+  double peak = 0.0;
+  cv::minMaxLoc(turned, nullptr, &peak);
+  EXPECT_GT(peak, 60.0);
+  EXPECT_LE(pixels_differing(rolled, turned, 1e-9 * peak), 2);
+  // A view that differs: a pitch 1 deg off changes many pixels.
+  view = camera_view(camera, pose);
+  view.world_to_camera = world_to_camera_rotation(0.3, 89.0 * kDeg);
+  EXPECT_GT(pixels_differing(render_radiance(camera, scene, view, params),
+                             render_radiance(camera, scene, camera_view(camera, pose), params),
+                             1e-3 * peak),
+            100);
+}
+
 TEST(GoldenRenderer, RejectsBadInput) {
   const host::CameraConfig camera = make_camera(45.0, false);
   const CeilingScene scene = single_tape_scene(0.05);
@@ -699,6 +776,12 @@ TEST(GoldenRenderer, RejectsBadInput) {
   CeilingScene degenerate;
   degenerate.tapes.push_back({1.0, 1.0, 1.0, 1.0, 0.05});
   EXPECT_THROW(render_frame(camera, degenerate, {}, RenderParams{}), std::invalid_argument);
+  CeilingScene below;
+  below.tapes.push_back({0.0, 0.0, 5.0, 0.0, 0.05, 1.0, 0.45});  // under the camera
+  EXPECT_THROW(render_frame(camera, below, {}, RenderParams{}), std::invalid_argument);
+  CameraView nan_view = camera_view(camera, {});
+  nan_view.centre.x() = std::nan("");
+  EXPECT_THROW(render_radiance(camera, scene, nan_view, RenderParams{}), std::invalid_argument);
 }
 
 }  // namespace
