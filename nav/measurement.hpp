@@ -1,0 +1,63 @@
+// The measurement contract between the estimators (host/) and the navigation
+// filter (BRIEF section 7): what one frame concludes, its covariance, when its
+// frame was exposed, when the result became available, and a status. An
+// estimator never sees the robot's state; the filter never sees pixels.
+// Frames and signs: docs/navigation.md, "Measurement contract".
+#pragma once
+
+#include <Eigen/Core>
+
+namespace ceilnav::nav {
+
+// Outcome of the estimator for this frame. Only `ok` measurements carry a
+// quantity; the filter counts the others and does not use them.
+enum class MeasurementStatus {
+  ok,
+  not_found,     // nothing to measure in the frame (no tape, no pattern)
+  degenerate,    // the geometry could not be solved
+  inconsistent,  // something was found but failed the estimator's evidence checks
+  invalid,       // the frame itself was flagged (malformed stream, overflow)
+};
+
+// Times on the robot's clock (the odometry's clock), seconds.
+struct MeasurementTime {
+  double exposure_s = 0.0;   // mid-exposure of the frame the quantity describes
+  double available_s = 0.0;  // when the result reached the filter (>= exposure_s)
+};
+
+// A ceiling tape seen by the camera (host::TapePose): the camera's yaw relative
+// to the tape's direction and the camera's lateral offset from the tape's
+// centre line, positive when the camera is left of the tape looking along that
+// direction. The direction is the one the camera faces (|yaw| < 90 deg) for a
+// forward-looking camera; in zenith mode (pitch 90) the yaw is known only
+// modulo pi, and the offset is relative to whichever direction the yaw names.
+// Either way the tape map's segments are undirected, so the filter picks the
+// branch (segment direction or its reverse) nearest its predicted yaw.
+struct TapeMeasurement {
+  MeasurementTime time;
+  MeasurementStatus status = MeasurementStatus::ok;
+  double yaw_rad = 0.0;
+  double offset_m = 0.0;
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();  // (yaw, offset)
+  bool zenith = false;                                       // yaw known modulo pi only
+};
+
+// A pattern station's fix (host/pattern, seed 003): the camera's position on
+// the floor plane and its heading in the world, from the station's known pose.
+struct PatternFix {
+  MeasurementTime time;
+  MeasurementStatus status = MeasurementStatus::ok;
+  double x_m = 0.0, y_m = 0.0, yaw_rad = 0.0;                // camera, world frame
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // (x, y, yaw)
+};
+
+// Ceiling height above the camera (host/flow_height): configures the tape and
+// pattern estimators; the planar filter does not use it.
+struct CeilingHeight {
+  MeasurementTime time;
+  MeasurementStatus status = MeasurementStatus::ok;
+  double height_m = 0.0;
+  double sigma_m = 0.0;
+};
+
+}  // namespace ceilnav::nav
