@@ -100,7 +100,7 @@ void Ekf::propagate(State& x, Covariance& p, const OdometryStep& step) const {
   Eigen::Matrix<double, state::size, 3> g = Eigen::Matrix<double, state::size, 3>::Zero();
   g.topRows<3>() = dpose.rightCols<2>() * dmotion_dw;
   const Eigen::Vector3d q(m.wheel_var_per_m * std::abs(l), m.wheel_var_per_m * std::abs(r),
-                          m.yaw_var_per_rad * std::abs(dpsi));
+                          m.yaw_var_per_rad * std::abs(r - l) / b);
 
   const Pose2 next = advance({x(state::x), x(state::y), psi}, {ds, dpsi});
   x(state::x) = next.x_m;
