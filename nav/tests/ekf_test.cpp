@@ -344,7 +344,7 @@ TEST(Ekf, NeesIsWithinTheChiSquareBand) {
   EXPECT_NEAR(mean_full, 6.0, 3 * std::sqrt(2 * 6.0 / 50));
 }
 
-// (d) Injected outliers (a 0.25 m offset jump, a 6 deg yaw jump) are rejected
+// (d) Injected outliers (a 0.25 m offset jump, a 0.1 rad yaw jump) are rejected
 // and counted; the good measurements are accepted.
 TEST(Ekf, OutliersAreRejectedAndCounted) {
   const sim::SimConfig cfg = loop_config();
@@ -449,7 +449,7 @@ TEST(Ekf, DeadReckoningDriftMatchesTheOdometryModel) {
   // chi-square(1200) / 400. Dead-reckoning errors are random walks and
   // constants, so the per-tick test over one batch is nearly one draw; a few
   // instants are tested. At the loop's end (yaw sigma 9 deg) the EKF's
-  // linearisation shows: 1000 runs give 3.23 (docs/navigation.md); bounded here.
+  // linearisation starts to show (docs/navigation.md); bounded here.
   sim::SimConfig loop = loop_config();
   loop.stations.clear();
   const int m = 400;
