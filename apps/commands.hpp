@@ -88,6 +88,23 @@ int run_exposure(const ExposureOptions& o);
 // The exposure of frame i of the sweep (relative to nominal).
 double exposure_of_frame(int i);
 
+struct DriveOptions {
+  std::string out_dir = "ceilnav-drive";
+  std::string course_file;  // empty: the built-in default course
+  std::string backend = "fast";
+  uint64_t seed = 1;
+  int monte_carlo = 1;
+  bool vision = true;
+  std::string steering = "feedback";  // feedback | linear | pure-pursuit
+  double pitch_deg = 45.0;
+  int width = 320, height = 240;  // the camera: the demo camera scaled (scaled_camera)
+  double max_time_s = 0.0;  // 0: from the route's length
+  bool plot = true;
+  bool quiet = false;
+  bool require = false;  // exit 1 unless the goals are met
+};
+int run_drive(const DriveOptions& o);
+
 // The device for a backend name (fast, model, or rtl when this build has the
 // Verilated RTL; std::runtime_error otherwise); the bus backends with the
 // demo's tvalid gaps (0.1) and run-stream back-pressure (0.3).

@@ -224,6 +224,49 @@ CLI::App* add_exposure_command(CLI::App& app, ExposureOptions& expo) {
 }
 
 // `ceilnav profile` and its options, parsed into `prof`.
+// `ceilnav drive` and its options, parsed into `drive`.
+CLI::App* add_drive_command(CLI::App& app, DriveOptions& drive) {
+  auto* cmd = app.add_subcommand(
+      "drive",
+      "Drive a course closed loop on ceilnav: a simulated robot, its camera frames through the "
+      "device and the host, the fusion filter and the path follower; writes trajectory.csv, "
+      "summary.json and drive.png");
+  cmd->add_option("--course", drive.course_file,
+                  "Course file (YAML or JSON, docs/navigation.md); default: the built-in course")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", drive.out_dir, "Output folder (created)")->capture_default_str();
+  cmd->add_option("--backend", drive.backend,
+                  "fast, model (C++ cycle-level device) or rtl (Verilated RTL; slow: use a short "
+                  "course)")
+      ->check(CLI::IsMember({"fast", "model", "rtl"}))
+      ->capture_default_str();
+  cmd->add_option("--seed", drive.seed, "Seed of slip, wheel scale errors and frame noise")
+      ->capture_default_str();
+  cmd->add_option("--monte-carlo", drive.monte_carlo,
+                  "Runs with seeds seed .. seed + N - 1; summary.json gets their distributions")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  cmd->add_option("--steering", drive.steering, "Steering law: feedback, linear or pure-pursuit")
+      ->check(CLI::IsMember({"feedback", "linear", "pure-pursuit"}))
+      ->capture_default_str();
+  cmd->add_option("--pitch", drive.pitch_deg, "Camera pitch above the horizontal, degrees")
+      ->check(CLI::Range(20.0, 90.0))
+      ->capture_default_str();
+  cmd->add_option("--width", drive.width, "Camera image width (the demo camera scaled)")
+      ->check(CLI::Range(64, 2048))
+      ->capture_default_str();
+  cmd->add_option("--height", drive.height, "Camera image height")
+      ->check(CLI::Range(48, 2048))
+      ->capture_default_str();
+  cmd->add_option("--max-time", drive.max_time_s, "Stop after this many simulated seconds")
+      ->check(CLI::Range(0.0, 1e6));
+  cmd->add_flag("!--no-vision", drive.vision, "Dead reckoning only: no frames reach the filter");
+  cmd->add_flag("!--no-plot", drive.plot, "No drive.png");
+  cmd->add_flag("--quiet", drive.quiet, "No progress bar");
+  cmd->add_flag("--require", drive.require, "Exit 1 unless summary.json's goals are met");
+  return cmd;
+}
+
 CLI::App* add_profile_command(CLI::App& app, ProfileOptions& prof) {
   auto* prof_cmd = app.add_subcommand(
       "profile",
@@ -412,6 +455,7 @@ int main(int argc, char** argv) {
   PatternOptions pat;
   PatternAccuracyOptions pacc;
   ExposureOptions expo;
+  DriveOptions drive;
   CLI::App* demo_cmd = add_demo_command(app, demo);
   CLI::App* run_cmd = add_run_command(app, run);
   CLI::App* render_cmd = add_render_command(app, render);
@@ -420,6 +464,7 @@ int main(int argc, char** argv) {
   CLI::App* pat_cmd = add_pattern_command(app, pat);
   CLI::App* pacc_cmd = add_pattern_accuracy_command(app, pacc);
   CLI::App* expo_cmd = add_exposure_command(app, expo);
+  CLI::App* drive_cmd = add_drive_command(app, drive);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -431,6 +476,7 @@ int main(int argc, char** argv) {
     if (*pat_cmd) return run_pattern(pat);
     if (*pacc_cmd) return run_pattern_accuracy(pacc);
     if (*expo_cmd) return run_exposure(expo);
+    if (*drive_cmd) return run_drive(drive);
   } catch (const ceilnav::host::ConfigError& e) {
     std::cerr << "ceilnav: scene error: " << e.what() << '\n';
     return 1;

@@ -1,0 +1,310 @@
+#include "sim/drive.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "nav/chi_square.hpp"
+#include "stream/ceilnav_top.hpp"
+
+namespace ceilnav::sim {
+namespace {
+
+Eigen::Vector2d point_at_arc(const TapePolyline& t, double s) {
+  for (std::size_t k = 0; k + 1 < t.points.size(); ++k) {
+    const Eigen::Vector2d a(t.points[k].x_m, t.points[k].y_m);
+    const Eigen::Vector2d b(t.points[k + 1].x_m, t.points[k + 1].y_m);
+    const double len = (b - a).norm();
+    if (s <= len || k + 2 == t.points.size()) return a + (b - a) * std::min(1.0, s / len);
+    s -= len;
+  }
+  return {t.points.back().x_m, t.points.back().y_m};
+}
+
+double distance_to_path(const std::vector<Eigen::Vector2d>& w, const Eigen::Vector2d& p) {
+  double best = 1e300;
+  for (std::size_t k = 0; k + 1 < w.size(); ++k) {
+    const Eigen::Vector2d ab = w[k + 1] - w[k];
+    const double u = std::clamp((p - w[k]).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (w[k] + u * ab - p).norm());
+  }
+  return best;
+}
+
+}  // namespace
+
+Drive::Drive(const DriveConfig& config)
+    : config_(config),
+      plan_(plan_route(config.course)),
+      strips_(ceiling_scene(config.course)),
+      robot_(config.robot, config.course.start, 0.0),
+      follower_(plan_.waypoints, config.follower) {
+  config_.camera.ceiling_height_m = config_.course.ceiling_height_m;
+  config_.camera.camera_height_m = config_.camera_height_m;
+  if (!(config_.odometry_rate_hz > 0.0) || !(config_.frame_rate_hz > 0.0) ||
+      !(config_.exposure_s >= 0.0) || config_.exposure_s >= 1.0 / config_.frame_rate_hz) {
+    throw std::invalid_argument(
+        "drive: odometry and frame rates must be positive and the exposure shorter than a frame");
+  }
+  dt_ = 1.0 / config_.odometry_rate_hz;
+  for (const TapePolyline& t : config_.course.tapes) {
+    for (std::size_t k = 0; k + 1 < t.points.size(); ++k) {
+      map_.add({{t.points[k].x_m, t.points[k].y_m},
+                {t.points[k + 1].x_m, t.points[k + 1].y_m},
+                t.width_m});
+    }
+  }
+  nav::EkfOptions eo = config_.ekf;
+  eo.mount = config_.believed_mount;
+  eo.odometry.wheel_base_m = config_.robot.wheel_base_m;
+  nav::State x0 = nav::State::Zero();
+  x0(nav::state::x) = config_.course.start.x_m;
+  x0(nav::state::y) = config_.course.start.y_m;
+  x0(nav::state::yaw) = config_.course.start.yaw_rad;
+  nav::Covariance p0 = nav::Ekf::calibration_prior(eo.odometry);
+  p0(nav::state::x, nav::state::x) = p0(nav::state::y, nav::state::y) =
+      config_.start_sigma_m * config_.start_sigma_m;
+  p0(nav::state::yaw, nav::state::yaw) = config_.start_sigma_yaw_rad * config_.start_sigma_yaw_rad;
+  ekf_ = std::make_unique<nav::Ekf>(eo, &map_, 0.0, x0, p0);
+  navigator_ = std::make_unique<host::Navigator>(
+      config_.camera, drivers::make_device(config_.device), config_.navigator);
+  track_.add(0.0, robot_.pose());
+  t_end_ = config_.max_time_s > 0.0
+               ? config_.max_time_s
+               : 3.0 * plan_.length_m / std::max(0.05, config_.follower.cruise_speed_mps) + 60.0;
+}
+
+Drive::~Drive() = default;
+
+double Drive::frame_latency_s(const host::FrameOutcome& o) const {
+  // The pipeline's own timing: a pass streams W x H pixels at one per clock
+  // and raises its interrupt kEofToIntrCycles after the last (docs/profile.md);
+  // the same on every backend, since they are cycle-true to one another.
+  const double cycles =
+      static_cast<double>(config_.camera.image_width) * config_.camera.image_height +
+      stream::CeilnavTop::kEofToIntrCycles;
+  return std::max(1, o.passes) * cycles / config_.pixel_clock_hz + config_.host_time_s;
+}
+
+void Drive::expose_frame(int index, double t0) {
+  const PoseTrack& track = track_;
+  const PoseAt pose_at = [&track](double t) { return track.at(t); };
+  const cv::Mat frame = render_drive_frame(config_.camera, config_.course, config_.mount, pose_at,
+                                           t0, config_.exposure_s, config_.render);
+  const host::FrameOutcome out = navigator_->process(frame);
+  const host::TapePose& pose =
+      out.zenith && out.zenith->status == host::Status::ok ? *out.zenith : out.pose;
+  ++frames_;
+  frames_ok_ += pose.status == host::Status::ok;
+  exposed_frame_ = index;
+  exposed_status_ = std::string(host::to_string(pose.status));
+  nav::MeasurementTime time;
+  time.exposure_s = t0 + 0.5 * config_.exposure_s;
+  time.available_s = t0 + config_.exposure_s + frame_latency_s(out);
+  nav::TapeMeasurement m = host::tape_measurement(pose, time, config_.tape_noise);
+  if (m.status == nav::MeasurementStatus::ok) {
+    // The host measured the offset at the configured ceiling height; the
+    // course's height where the camera looks scales it (offset is
+    // proportional to the ceiling above the camera).
+    const nav::Pose2 cam = ekf_->camera_pose(ekf_->state());
+    const double above_cfg = config_.camera.ceiling_height_m - config_.camera.camera_height_m;
+    const double p = config_.camera.camera_pitch_deg * std::numbers::pi / 180.0;
+    const double reach = std::abs(std::cos(p)) < 1e-9 ? 0.0 : above_cfg / std::tan(p);
+    const double h = config_.course.ceiling_height_at(cam.x_m + reach * std::cos(cam.yaw_rad),
+                                                      cam.y_m + reach * std::sin(cam.yaw_rad));
+    const double f = (h - config_.camera.camera_height_m) / above_cfg;
+    m.offset_m *= f;
+    m.covariance(1, 1) *= f * f;
+    m.covariance(0, 1) *= f;
+    m.covariance(1, 0) *= f;
+  }
+  pending_.push_back({m, index});
+}
+
+bool Drive::step() {
+  if (over_) return false;
+  const auto wall0 = std::chrono::steady_clock::now();
+  const nav::Command cmd = follower_.update(ekf_->pose(), dt_, blind_m_);
+  DriveRow row;
+  if (cmd.mode == nav::FollowerMode::finished || cmd.mode == nav::FollowerMode::lost ||
+      t_ >= t_end_) {
+    over_ = true;
+  }
+  const nav::OdometryStep odo =
+      over_ ? robot_.step(dt_, 0.0, 0.0) : robot_.step(dt_, cmd.v_mps, cmd.omega_radps);
+  const nav::Pose2 before = track_.at(t_);
+  t_ = robot_.time_s();
+  track_.add(t_, robot_.pose());
+  driven_m_ += std::hypot(robot_.pose().x_m - before.x_m, robot_.pose().y_m - before.y_m);
+  ekf_->predict(odo);
+  blind_m_ += std::abs(nav::motion_of(odo, config_.robot.wheel_base_m).distance_m);
+  exposed_frame_ = -1;
+  exposed_status_.clear();
+  if (config_.vision) {
+    while (next_frame_ / config_.frame_rate_hz + config_.exposure_s <= t_ + 1e-9) {
+      expose_frame(next_frame_, next_frame_ / config_.frame_rate_hz);
+      ++next_frame_;
+    }
+  }
+  std::sort(pending_.begin(), pending_.end(), [](const Pending& a, const Pending& b) {
+    return a.m.time.available_s < b.m.time.available_s;
+  });
+  std::size_t used = 0;
+  for (; used < pending_.size() && pending_[used].m.time.available_s <= t_ + 1e-9; ++used) {
+    const nav::Outcome o = ekf_->update(pending_[used].m);
+    row.frame = pending_[used].frame;
+    switch (o) {
+      case nav::Outcome::accepted:
+        row.outcome = "accepted";
+        blind_m_ = 0.0;
+        break;
+      case nav::Outcome::pending:
+        row.outcome = "pending";
+        break;
+      case nav::Outcome::rejected_gate:
+        row.outcome = "rejected_gate";
+        break;
+      case nav::Outcome::unassociated:
+        row.outcome = "unassociated";
+        break;
+      case nav::Outcome::too_old:
+        row.outcome = "too_old";
+        break;
+      case nav::Outcome::not_ok:
+        row.outcome = "not_ok";
+        break;
+    }
+  }
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(used));
+
+  row.t_s = t_;
+  row.truth = robot_.pose();
+  row.estimate = ekf_->pose();
+  const nav::Covariance& p = ekf_->covariance();
+  row.sigma_x_m = std::sqrt(p(nav::state::x, nav::state::x));
+  row.sigma_y_m = std::sqrt(p(nav::state::y, nav::state::y));
+  row.sigma_yaw_rad = std::sqrt(p(nav::state::yaw, nav::state::yaw));
+  row.v_cmd_mps = cmd.v_mps;
+  row.omega_cmd_radps = cmd.omega_radps;
+  row.mode = cmd.mode;
+  row.leg = cmd.leg;
+  const auto li = static_cast<std::size_t>(
+      std::min<int>(cmd.leg, static_cast<int>(plan_.waypoints.size()) - 2));
+  const nav::LineError truth_err =
+      nav::line_error(robot_.pose(), plan_.waypoints[li], plan_.waypoints[li + 1]);
+  row.lateral_error_m = truth_err.lateral_m;
+  row.heading_error_rad = truth_err.heading_rad;
+  row.pose_nees = ekf_->pose_nees(robot_.pose());
+  row.distance_m = driven_m_;
+  row.blind_m = blind_m_;
+  if (exposed_frame_ >= 0 && row.frame < 0) row.frame_status = exposed_status_;
+  if (exposed_frame_ >= 0) row.frame_status = exposed_status_;
+  rows_.push_back(std::move(row));
+  wall_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return !over_;
+}
+
+void Drive::run(const std::function<void(double, double)>& progress) {
+  int last = -1;
+  while (step()) {
+    if (progress && next_frame_ != last) {
+      last = next_frame_;
+      progress(driven_m_, plan_.length_m);
+    }
+  }
+  if (progress) progress(driven_m_, plan_.length_m);
+}
+
+DriveSummary Drive::summary() const {
+  DriveSummary s;
+  s.course = config_.course.name;
+  s.backend = config_.backend;
+  s.route_length_m = plan_.length_m;
+  s.driven_m = driven_m_;
+  s.sim_time_s = t_;
+  s.finished = follower_.mode() == nav::FollowerMode::finished;
+  s.lost = follower_.mode() == nav::FollowerMode::lost;
+  s.frames = frames_;
+  s.frames_ok = frames_ok_;
+  double ss_lat = 0.0, ss_head = 0.0;
+  int n = 0, in_band = 0;
+  const double lo = nav::chi_square_quantile(0.025, 3.0), hi = nav::chi_square_quantile(0.975, 3.0);
+  for (const DriveRow& r : rows_) {
+    if (r.pose_nees >= lo && r.pose_nees <= hi) ++in_band;
+    if (r.mode != nav::FollowerMode::follow) continue;
+    ++n;
+    ss_lat += r.lateral_error_m * r.lateral_error_m;
+    ss_head += r.heading_error_rad * r.heading_error_rad;
+    s.lateral_max_m = std::max(s.lateral_max_m, std::abs(r.lateral_error_m));
+  }
+  if (n > 0) {
+    s.lateral_rms_m = std::sqrt(ss_lat / n);
+    s.heading_rms_rad = std::sqrt(ss_head / n);
+  }
+  if (!rows_.empty())
+    s.nees_in_band = static_cast<double>(in_band) / static_cast<double>(rows_.size());
+  // A junction is taken when the robot passed within 5 cm of it and drove on
+  // onto the leg after it.
+  s.junctions_planned = static_cast<int>(plan_.junctions.size());
+  for (const RouteJunction& j : plan_.junctions) {
+    bool near = false, beyond = false;
+    for (const DriveRow& r : rows_) {
+      near |= std::hypot(r.truth.x_m - j.position.x(), r.truth.y_m - j.position.y()) <= 0.05;
+      beyond |= near && r.leg >= j.waypoint && r.mode == nav::FollowerMode::follow;
+    }
+    s.junctions_taken += near && beyond;
+  }
+  // Gaps whose middle lies on the route; crossed when the robot passed
+  // within 5 cm of the middle.
+  for (const TapePolyline& t : config_.course.tapes) {
+    for (const auto& [g0, g1] : t.gaps_m) {
+      const Eigen::Vector2d mid = point_at_arc(t, 0.5 * (g0 + g1));
+      if (distance_to_path(plan_.waypoints, mid) > 0.05) continue;
+      ++s.gaps_on_route;
+      bool crossed = false;
+      for (const DriveRow& r : rows_)
+        crossed |= std::hypot(r.truth.x_m - mid.x(), r.truth.y_m - mid.y()) <= 0.05;
+      s.gaps_crossed += crossed;
+    }
+  }
+  s.counters = ekf_->counters();
+  if (!rows_.empty()) {
+    const DriveRow& r = rows_.back();
+    s.final_position_error_m =
+        std::hypot(r.truth.x_m - r.estimate.x_m, r.truth.y_m - r.estimate.y_m);
+  }
+  s.wall_time_s = wall_s_;
+  s.realtime_factor = wall_s_ > 0.0 ? t_ / wall_s_ : 0.0;
+  return s;
+}
+
+void write_trajectory_csv(const std::string& path, const std::vector<DriveRow>& rows) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp);
+    if (!f) throw std::runtime_error("cannot write " + tmp);
+    f << "t_s,x_m,y_m,yaw_rad,est_x_m,est_y_m,est_yaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,"
+         "v_cmd_mps,omega_cmd_radps,mode,leg,lateral_error_m,heading_error_rad,pose_nees,"
+         "distance_m,blind_m,frame_status,applied_frame,outcome\n";
+    for (const DriveRow& r : rows) {
+      f << fmt::format(
+          "{:.4f},{:.6f},{:.6f},{:.7f},{:.6f},{:.6f},{:.7f},{:.3e},{:.3e},{:.3e},"
+          "{:.4f},{:.5f},{},{},{:.3e},{:.3e},{:.4g},{:.4f},{:.4f},{},{},{}\n",
+          r.t_s, r.truth.x_m, r.truth.y_m, r.truth.yaw_rad, r.estimate.x_m, r.estimate.y_m,
+          r.estimate.yaw_rad, r.sigma_x_m, r.sigma_y_m, r.sigma_yaw_rad, r.v_cmd_mps,
+          r.omega_cmd_radps, nav::to_string(r.mode), r.leg, r.lateral_error_m, r.heading_error_rad,
+          r.pose_nees, r.distance_m, r.blind_m, r.frame_status,
+          r.frame >= 0 ? std::to_string(r.frame) : "", r.outcome);
+    }
+    if (!f.flush()) throw std::runtime_error("cannot write " + tmp);
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace ceilnav::sim
