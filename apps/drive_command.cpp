@@ -101,9 +101,10 @@ int run_drive(const DriveOptions& o) {
   write_text(folder, "truth.csv", truth);
   write_scene(folder, camera);
   folder.commit();
-  std::printf("ceilnav drive: %d frames along a %s path of %.2f m, odometry scale error %+.3f %%"
-              " -> %s\n",
-              n, o.path.c_str(), o.length_m, 100.0 * o.scale_error, o.out_dir.c_str());
+  std::printf(
+      "ceilnav drive: %d frames along a %s path of %.2f m, odometry scale error %+.3f %%"
+      " -> %s\n",
+      n, o.path.c_str(), o.length_m, 100.0 * o.scale_error, o.out_dir.c_str());
   return 0;
 }
 

@@ -11,12 +11,12 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/commands.hpp"
-#include "nav/odometry.hpp"
 #include "apps/pattern_commands.hpp"
 #include "apps/profile.hpp"
 #include "common/version.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/frame_io.hpp"
+#include "nav/odometry.hpp"
 
 namespace {
 
@@ -152,8 +152,12 @@ CLI::App* add_drive_command(CLI::App& app, DriveOptions& drive) {
   cmd->add_option("--length", drive.length_m, "Distance along the corridor, m")
       ->check(finite_in(0.5, 50.0))
       ->capture_default_str();
-  cmd->add_option("--speed", drive.speed_mps, "m/s")->check(finite_in(0.05, 5.0))->capture_default_str();
-  cmd->add_option("--fps", drive.fps, "Frames per second")->check(finite_in(0.1, 100.0))->capture_default_str();
+  cmd->add_option("--speed", drive.speed_mps, "m/s")
+      ->check(finite_in(0.05, 5.0))
+      ->capture_default_str();
+  cmd->add_option("--fps", drive.fps, "Frames per second")
+      ->check(finite_in(0.1, 100.0))
+      ->capture_default_str();
   cmd->add_option("--tick-hz", drive.tick_hz, "Odometry ticks per second")
       ->check(finite_in(1.0, 10000.0))
       ->capture_default_str();

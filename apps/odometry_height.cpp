@@ -6,6 +6,11 @@
 #include <numbers>
 
 namespace ceilnav::app {
+namespace {
+// Tracks whose height has a larger relative standard error do not count
+// towards the odometry scale (a short track, or a feature that is not fixed).
+constexpr double kMaxRelativeError = 0.02;
+}  // namespace
 
 OdometryHeight::OdometryHeight(const host::CameraConfig& camera)
     : camera_(camera),
@@ -27,12 +32,13 @@ OdometryColumns OdometryHeight::add(const nav::Pose2& pose, const cv::Mat& grey,
     width_sum_ += w.ceiling_above_camera_m;
     ++width_n_;
   }
-  if (const auto end = host::find_tape_end(r.runs, cam, camera_, r.pose)) {
+  if (const auto end = host::find_tape_end(grey, r.runs, cam, camera_, r.pose)) {
     if (!track_.add({pose.x_m, pose.y_m, pose.yaw_rad}, *end)) close_track();
     const host::FlowFit f = track_.fit();
     if (f.status == host::Status::ok) {
       current_ = f;
       out.flow_ceiling_m = f.ceiling_above_camera_m;
+      out.flow_ceiling_se_m = f.std_error_m;
       out.flow_range_m = f.range_m;
       out.flow_frames = f.frames;
     }
@@ -49,12 +55,14 @@ OdometryHeightSummary OdometryHeight::summary() const {
   if (current_) fits.push_back(*current_);
   double sw = 0.0, swc = 0.0;
   for (const host::FlowFit& f : fits) {
+    // A track counts when its fit is within 2 % (standard error); then by inverse variance
+    if (!(f.std_error_m <= kMaxRelativeError * f.ceiling_above_camera_m)) continue;
+    ++s.tracks;
     // Inverse variance, with a floor of 0.1 % of c on the standard error.
     const double se = std::max(f.std_error_m, 1e-3 * f.ceiling_above_camera_m);
     sw += 1.0 / (se * se);
     swc += f.ceiling_above_camera_m / (se * se);
   }
-  s.tracks = static_cast<int>(fits.size());
   if (sw > 0.0) s.flow_ceiling_m = swc / sw;
   if (s.tracks > 0 && width_n_ > 0) s.odometry_scale = s.flow_ceiling_m / s.width_ceiling_m;
   return s;

@@ -21,7 +21,7 @@ namespace ceilnav::app {
 struct OdometryHeightSummary {
   int width_frames = 0;
   double width_ceiling_m = 0.0;  // mean over the frames
-  int tracks = 0;                // tape-end tracks with a fit
+  int tracks = 0;                // tape-end tracks whose fit has a standard error <= 2 % of c
   double flow_ceiling_m = 0.0;   // inverse-variance mean of the tracks' fits
   std::optional<double> odometry_scale;
 };

@@ -21,13 +21,14 @@ namespace ceilnav::app {
 // infinity, no pitch estimate, not a zenith camera) is an empty field, never NaN.
 // Then the odometry columns of `run --odometry` (apps/odometry_height.hpp),
 // empty when not measured (always, without --odometry): flow_ceiling_m,
-// flow_range_m, flow_frames, width_ceiling_m, odometry_scale.
+// flow_ceiling_se_m, flow_range_m, flow_frames, width_ceiling_m, odometry_scale.
 struct OdometryColumns {
-  std::optional<double> flow_ceiling_m;   // tape-end track fit with the measured odometry
-  std::optional<double> flow_range_m;     // the tracked tape end's range ahead (eq. 57)
-  std::optional<int> flow_frames;         // frames in that track
-  std::optional<double> width_ceiling_m;  // this frame, from the tape's image width
-  std::optional<double> odometry_scale;   // flow height / width height, drive so far
+  std::optional<double> flow_ceiling_m;     // tape-end track fit with the measured odometry
+  std::optional<double> flow_ceiling_se_m;  // its standard error from the fit's residuals
+  std::optional<double> flow_range_m;       // the tracked tape end's range ahead (eq. 57)
+  std::optional<int> flow_frames;           // frames in that track
+  std::optional<double> width_ceiling_m;    // this frame, from the tape's image width
+  std::optional<double> odometry_scale;     // flow height / width height, drive so far
 };
 void write_results_header(std::ostream& out);
 void write_results_row(std::ostream& out, const std::string& frame_name,

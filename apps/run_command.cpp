@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
-#include <stdexcept>
 
 #include "apps/atomic_file.hpp"
 #include "apps/command_support.hpp"
@@ -92,8 +92,8 @@ int run_frames(const RunOptions& o) {
   if (heights) {
     const OdometryHeightSummary h = heights->summary();
     std::fprintf(stderr,
-                 "ceilnav run: ceiling above camera from the tape width %.4f m (%d frames), from "
-                 "flow with the odometry %.4f m (%d tracks); odometry scale %s\n",
+                 "ceilnav run: ceiling above camera from the tape width %.5f m (%d frames), from "
+                 "flow with the odometry %.5f m (%d tracks); odometry scale %s\n",
                  h.width_ceiling_m, h.width_frames, h.flow_ceiling_m, h.tracks,
                  h.odometry_scale ? std::to_string(*h.odometry_scale).c_str() : "unknown");
   }

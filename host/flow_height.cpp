@@ -26,6 +26,36 @@ bool on_centre_line(const stream::RunRecord& r, const CameraModel& cam, const Ei
   return dist_px <= max_residual_px + 0.5 * (r.x_end - r.x_start + 1.0);
 }
 
+// Mass of pixels a..b of one image row above a background that varies linearly
+// between the means of the `bg` pixels just left of a and just right of b (the
+// caller keeps a - bg .. b + bg inside the row). Optional outputs: the
+// mass-weighted column, the two background means.
+struct WindowMass {
+  double mass = 0.0, centre = 0.0, left_bg = 0.0, right_bg = 0.0, max_bg = 0.0;
+  double background(int x, int a, int b) const {
+    return left_bg + (x - a + 0.5) / (b - a + 1.0) * (right_bg - left_bg);
+  }
+};
+WindowMass window_mass(const uint8_t* px, int a, int b, int bg) {
+  WindowMass w;
+  for (int k = 0; k < bg; ++k) {
+    w.left_bg += px[a - bg + k];
+    w.right_bg += px[b + 1 + k];
+    w.max_bg = std::max(
+        {w.max_bg, static_cast<double>(px[a - bg + k]), static_cast<double>(px[b + 1 + k])});
+  }
+  w.left_bg /= bg;
+  w.right_bg /= bg;
+  double mx = 0.0;
+  for (int x = a; x <= b; ++x) {
+    const double v = px[x] - w.background(x, a, b);
+    w.mass += v;
+    mx += v * x;
+  }
+  w.centre = w.mass != 0.0 ? mx / w.mass : 0.5 * (a + b);
+  return w;
+}
+
 }  // namespace
 
 HeightEstimate ceiling_height_from_flow(double v1_norm, double v2_norm, double pitch_rad,
@@ -55,10 +85,16 @@ HeightEstimate ceiling_height_from_flow(double v1_norm, double v2_norm, double p
   return out;
 }
 
-std::optional<Eigen::Vector2d> find_tape_end(std::span<const stream::RunRecord> runs,
-                                             const CameraModel& cam, const CameraConfig& cfg,
-                                             const TapePose& pose, const TapeEndOptions& opt) {
+namespace {
+
+std::optional<Eigen::Vector2d> tape_end(const cv::Mat* grey,
+                                        std::span<const stream::RunRecord> runs,
+                                        const CameraModel& cam, const CameraConfig& cfg,
+                                        const TapePose& pose, const TapeEndOptions& opt) {
   if (pose.status != Status::ok || runs.empty()) return std::nullopt;
+  if (grey != nullptr && (grey->type() != CV_8UC1 || grey->rows != cfg.image_height)) {
+    return std::nullopt;
+  }
   const Eigen::Vector3d& l = pose.line_norm;
   const double sp = std::sin(pose.pitch_rad), cp = std::cos(pose.pitch_rad);
   const double c = cfg.ceiling_above_camera_m();
@@ -66,6 +102,7 @@ std::optional<Eigen::Vector2d> find_tape_end(std::span<const stream::RunRecord> 
   // Per row: tape mass and mass-weighted centre of the runs on the centre line.
   struct RowSum {
     double mass = 0.0, xw = 0.0;
+    int x_min = 1 << 30, x_max = -1;
   };
   std::map<int, RowSum> rows;
   for (const auto& r : runs) {
@@ -73,6 +110,8 @@ std::optional<Eigen::Vector2d> find_tape_end(std::span<const stream::RunRecord> 
     RowSum& s = rows[r.row];
     s.mass += static_cast<double>(r.sum_w);
     s.xw += static_cast<double>(r.sum_xw);
+    s.x_min = std::min(s.x_min, static_cast<int>(r.x_start));
+    s.x_max = std::max(s.x_max, static_cast<int>(r.x_end));
   }
   if (rows.empty()) return std::nullopt;
 
@@ -119,16 +158,73 @@ std::optional<Eigen::Vector2d> find_tape_end(std::span<const stream::RunRecord> 
   const double mass_slope = (n * srm - sr * sm) / det, mass_icpt = (sm - mass_slope * sr) / n;
   const double x_slope = (n * srx - sr * sx) / det, x_icpt = (sx - x_slope * sr) / n;
   double v_end = chain[static_cast<size_t>(ref_end - 1)] + 0.5;
-  for (int k = ref_end; k < n_chain; ++k) {
-    const int row = chain[static_cast<size_t>(k)];
-    const double full = mass_icpt + mass_slope * row;
-    if (!(full > 0.0)) return std::nullopt;
-    v_end += rows.at(row).mass / full;
+  if (grey == nullptr) {
+    for (int k = ref_end; k < n_chain; ++k) {
+      const int row = chain[static_cast<size_t>(k)];
+      const double full = mass_icpt + mass_slope * row;
+      if (!(full > 0.0)) return std::nullopt;
+      v_end += rows.at(row).mass / full;
+    }
+  } else {
+    // The same sum with the grey mass of a window around the centre line: no
+    // threshold drops the faint rows of the blurred end, which continues
+    // `tail_rows` rows past the last run.
+    double half = 0.0;
+    for (int k = ref_begin; k < ref_end; ++k) {
+      const RowSum& s = rows.at(chain[static_cast<size_t>(k)]);
+      half = std::max(half, 0.5 * (s.x_max - s.x_min + 1));
+    }
+    half += opt.grey_margin_px;
+    const int first = chain[static_cast<size_t>(ref_begin)];
+    const int stop = std::min(last + opt.tail_rows, cfg.image_height - 1);
+    std::vector<double> mass;
+    for (int row = first; row <= stop; ++row) {
+      const double xc = x_icpt + x_slope * row;
+      const int a = static_cast<int>(std::floor(xc - half));
+      const int b = static_cast<int>(std::ceil(xc + half));
+      if (a - opt.grey_background_px < 0 || b + opt.grey_background_px >= grey->cols) {
+        return std::nullopt;
+      }
+      mass.push_back(window_mass(grey->ptr<uint8_t>(row), a, b, opt.grey_background_px).mass);
+    }
+    double gn = 0, gr = 0, grr = 0, gm = 0, grm = 0;
+    for (int k = ref_begin; k < ref_end; ++k) {
+      const int row = chain[static_cast<size_t>(k)];
+      const double m = mass[static_cast<size_t>(row - first)];
+      gn += 1;
+      gr += row;
+      grr += static_cast<double>(row) * row;
+      gm += m;
+      grm += row * m;
+    }
+    const double gdet = gn * grr - gr * gr;
+    if (!(gdet > 0.0)) return std::nullopt;
+    const double gslope = (gn * grm - gr * gm) / gdet, gicpt = (gm - gslope * gr) / gn;
+    for (int row = chain[static_cast<size_t>(ref_end)]; row <= stop; ++row) {
+      const double full = gicpt + gslope * row;
+      if (!(full > 0.0)) return std::nullopt;
+      v_end += mass[static_cast<size_t>(row - first)] / full;
+    }
   }
   const double u_end = x_icpt + x_slope * v_end;
   const Eigen::Vector2d p = cam.normalise(u_end, v_end);
   if (!p.allFinite()) return std::nullopt;
   return p;
+}
+
+}  // namespace
+
+std::optional<Eigen::Vector2d> find_tape_end(std::span<const stream::RunRecord> runs,
+                                             const CameraModel& cam, const CameraConfig& cfg,
+                                             const TapePose& pose, const TapeEndOptions& opt) {
+  return tape_end(nullptr, runs, cam, cfg, pose, opt);
+}
+
+std::optional<Eigen::Vector2d> find_tape_end(const cv::Mat& grey,
+                                             std::span<const stream::RunRecord> runs,
+                                             const CameraModel& cam, const CameraConfig& cfg,
+                                             const TapePose& pose, const TapeEndOptions& opt) {
+  return tape_end(&grey, runs, cam, cfg, pose, opt);
 }
 
 WidthHeight ceiling_height_from_tape_width(const cv::Mat& grey,
@@ -163,25 +259,11 @@ WidthHeight ceiling_height_from_tape_width(const cv::Mat& grey,
     if (a0 < 0 || b1 >= width) continue;
     const uint8_t* px = grey.ptr<uint8_t>(row);
     // Background: the pixels just beyond the window on both sides; a row with
-    // another bright thing there (a branch, a neighbour) is skipped.
-    double bl = 0.0, br = 0.0, bmax = 0.0;
-    for (int k = 0; k < opt.background_px; ++k) {
-      bl += px[a0 + k];
-      br += px[b + 1 + k];
-      bmax = std::max({bmax, static_cast<double>(px[a0 + k]), static_cast<double>(px[b + 1 + k])});
-    }
-    bl /= opt.background_px;
-    br /= opt.background_px;
-    double mass = 0.0, mass_x = 0.0;
-    for (int x = a; x <= b; ++x) {
-      // Background varies linearly across the window between the two sides.
-      const double f = (x - a + 0.5) / (b - a + 1.0);
-      const double v = px[x] - (bl + f * (br - bl));
-      mass += v;
-      mass_x += v * x;
-    }
+    // another bright thing there (a branch, a neighbour) is skipped below.
+    const WindowMass wm = window_mass(px, a, b, opt.background_px);
+    const double mass = wm.mass, centre = wm.centre, bl = wm.left_bg, br = wm.right_bg,
+                 bmax = wm.max_bg;
     if (!(mass > 0.0)) continue;
-    const double centre = mass_x / mass;
     // Plateau: pixels well inside the tape's edges, from a first width guess
     // (the run) refined once with the mass / plateau width.
     double w_px = r.x_end - r.x_start + 1.0;
@@ -196,10 +278,7 @@ WidthHeight ceiling_height_from_tape_width(const cv::Mat& grey,
         break;
       }
       double sum = 0.0;
-      for (int x = lo; x <= hi; ++x) {
-        const double f = (x - a + 0.5) / (b - a + 1.0);
-        sum += px[x] - (bl + f * (br - bl));
-      }
+      for (int x = lo; x <= hi; ++x) sum += px[x] - wm.background(x, a, b);
       plateau = sum / (hi - lo + 1);
       if (!(plateau > 0.0)) {
         good = false;
@@ -261,12 +340,10 @@ bool FlowTrack::add(const PlanarPose& pose, const Eigen::Vector2d& feature_norm)
   };
   bool continues = false;
   if (!obs_.empty()) {
-    // The track's feature with the current fit's height, or the configured one.
-    const FlowFit f = fit();
-    const double c = f.status == Status::ok ? f.ceiling_above_camera_m : c0_;
-    const Eigen::Vector2d here = world(o, c);
-    const Eigen::Vector2d there = world(obs_.back(), c);
-    const double range = c * o.q.norm();
+    // With the configured height: a fit of a drifting feature cannot widen the gate.
+    const Eigen::Vector2d here = world(o, c0_);
+    const Eigen::Vector2d there = world(obs_.back(), c0_);
+    const double range = c0_ * o.q.norm();
     continues = (here - there).norm() <= opt_.gate_m + opt_.gate_fraction * range;
   }
   if (!continues) obs_.clear();

@@ -41,6 +41,12 @@ struct TapeEndOptions {
   int min_rows = 6;                   // rows of tape before the end
   int reference_rows = 8;             // full rows used to extrapolate the full-row mass
   double min_visible_width_px = 2.0;  // narrower expected tape: a fade, not an end
+  // Grey variant only: the window around the centre line (the widest reference
+  // run plus this each side), the background pixels beyond it, and the rows
+  // past the last run that the blurred end still reaches.
+  double grey_margin_px = 3.0;
+  int grey_background_px = 4;
+  int tail_rows = 3;
 };
 
 // The end of the tape where it stops at a gap, in undistorted normalised
@@ -51,6 +57,14 @@ struct TapeEndOptions {
 // rows of (run mass / extrapolated full-row mass), which puts a straight cut at
 // its centre-line crossing whatever its tilt. nullopt if there is no such end.
 std::optional<Eigen::Vector2d> find_tape_end(std::span<const stream::RunRecord> runs,
+                                             const CameraModel& cam, const CameraConfig& cfg,
+                                             const TapePose& pose, const TapeEndOptions& opt = {});
+// The same end with the row masses taken from the grey frame (grey minus the
+// local background in a window around the centre line) instead of the runs:
+// the rows of the blurred end below the threshold count too, which removes the
+// threshold's bias towards the tape (docs/host_maths.md section 6a).
+std::optional<Eigen::Vector2d> find_tape_end(const cv::Mat& grey,
+                                             std::span<const stream::RunRecord> runs,
                                              const CameraModel& cam, const CameraConfig& cfg,
                                              const TapePose& pose, const TapeEndOptions& opt = {});
 
@@ -105,9 +119,9 @@ struct FlowTrackOptions {
   double min_travel_m = 0.3;
   // A new observation joins the track when the feature position it implies
   // (with the configured height) is within gate_m + gate_fraction * range of
-  // the track's.
-  double gate_m = 0.15;
-  double gate_fraction = 0.05;
+  // the one the previous observation implies.
+  double gate_m = 0.05;
+  double gate_fraction = 0.02;
 };
 struct FlowFit {
   Status status = Status::degenerate;
