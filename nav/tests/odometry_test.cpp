@@ -4,6 +4,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -17,14 +18,34 @@ OdometryTrack parse(const std::string& text, const RobotParams* robot = &kRobot)
   return OdometryTrack::parse(in, "odo.csv", robot);
 }
 
-// The message of the OdometryFileError that parsing `text` throws ("" if none).
-std::string parse_error(const std::string& text, const RobotParams* robot = &kRobot) {
+// The message of the OdometryFileError that `parse_fn(stream)` throws for
+// `text` ("" if none).
+template <class ParseFn>
+std::string error_of(const std::string& text, ParseFn parse_fn) {
+  std::istringstream in(text);
   try {
-    parse(text, robot);
+    parse_fn(in);
   } catch (const OdometryFileError& e) {
     return e.what();
   }
   return "";
+}
+
+std::string parse_error(const std::string& text, const RobotParams* robot = &kRobot) {
+  return error_of(text, [&](std::istream& in) { OdometryTrack::parse(in, "odo.csv", robot); });
+}
+
+struct ErrorCase {
+  std::string text;
+  std::string want;  // the message's start
+};
+
+template <class ParseFn>
+void expect_errors(const std::vector<ErrorCase>& cases, ParseFn parse_fn) {
+  for (const auto& c : cases) {
+    const std::string got = error_of(c.text, parse_fn);
+    EXPECT_EQ(got.rfind(c.want, 0), 0u) << "file:\n" << c.text << "\nmessage: " << got;
+  }
 }
 
 TEST(OdometryFile, CountsIntegrateToThePose) {
@@ -70,32 +91,27 @@ TEST(OdometryFile, WhitespaceAroundFieldsIsAccepted) {
 TEST(OdometryFile, EachMalformedFileNamesTheLine) {
   const std::string counts = "t_s,left_ticks,right_ticks\n";
   const std::string vel = "t_s,v_mps,omega_radps\n";
-  const struct {
-    std::string text;
-    std::string want;
-  } cases[] = {
-      {"", "odo.csv:0: empty file"},
-      {"\n\n", "odo.csv:2: empty file"},
-      {"t,v,w\n0,1,0\n1,1,0\n", "odo.csv:1: header 't,v,w' is neither"},
-      {"t_s,v_mps\n0,1\n", "odo.csv:1: header"},
-      {vel + "0,1,0\n1,1\n", "odo.csv:3: expected 3 fields, got 2"},
-      {vel + "0,1,0\n1,1,0,4\n", "odo.csv:3: expected 3 fields, got 4"},
-      {vel + "0,1,0\nx,1,0\n", "odo.csv:3: t_s 'x' is not a number"},
-      {vel + "0,1,0\n1,,0\n", "odo.csv:3: v_mps '' is not a number"},
-      {vel + "0,1,0\n1,1,0.5rad\n", "odo.csv:3: omega_radps '0.5rad' is not a number"},
-      {vel + "0,1,0\n1,inf,0\n", "odo.csv:3: v_mps 'inf' is not finite"},
-      {vel + "0,1,0\nnan,1,0\n", "odo.csv:3: t_s 'nan' is not finite"},
-      {vel + "0,1,0\n1,1,0\n1,1,0\n", "odo.csv:4: time 1 is not after"},
-      {vel + "0,1,0\n1,1,0\n0.5,1,0\n", "odo.csv:4: time 0.5 is not after"},
-      {vel + "0,1,0\n", "odo.csv:2: needs at least two rows"},
-      {vel, "odo.csv:1: needs at least two rows"},
-      {counts + "0,0,0\n1,10.5,3\n", "odo.csv:3: left_ticks '10.5' is not an integer count"},
-      {counts + "0,0,0\n1,10,3e2\n", "odo.csv:3: right_ticks '3e2' is not an integer count"},
-  };
-  for (const auto& c : cases) {
-    const std::string got = parse_error(c.text);
-    EXPECT_EQ(got.rfind(c.want, 0), 0u) << "file:\n" << c.text << "\nmessage: " << got;
-  }
+  expect_errors(
+      {
+          {"", "odo.csv:0: empty file"},
+          {"\n\n", "odo.csv:2: empty file"},
+          {"t,v,w\n0,1,0\n1,1,0\n", "odo.csv:1: header 't,v,w' is neither"},
+          {"t_s,v_mps\n0,1\n", "odo.csv:1: header"},
+          {vel + "0,1,0\n1,1\n", "odo.csv:3: expected 3 fields, got 2"},
+          {vel + "0,1,0\n1,1,0,4\n", "odo.csv:3: expected 3 fields, got 4"},
+          {vel + "0,1,0\nx,1,0\n", "odo.csv:3: t_s 'x' is not a number"},
+          {vel + "0,1,0\n1,,0\n", "odo.csv:3: v_mps '' is not a number"},
+          {vel + "0,1,0\n1,1,0.5rad\n", "odo.csv:3: omega_radps '0.5rad' is not a number"},
+          {vel + "0,1,0\n1,inf,0\n", "odo.csv:3: v_mps 'inf' is not finite"},
+          {vel + "0,1,0\nnan,1,0\n", "odo.csv:3: t_s 'nan' is not finite"},
+          {vel + "0,1,0\n1,1,0\n1,1,0\n", "odo.csv:4: time 1 is not after"},
+          {vel + "0,1,0\n1,1,0\n0.5,1,0\n", "odo.csv:4: time 0.5 is not after"},
+          {vel + "0,1,0\n", "odo.csv:2: needs at least two rows"},
+          {vel, "odo.csv:1: needs at least two rows"},
+          {counts + "0,0,0\n1,10.5,3\n", "odo.csv:3: left_ticks '10.5' is not an integer count"},
+          {counts + "0,0,0\n1,10,3e2\n", "odo.csv:3: right_ticks '3e2' is not an integer count"},
+      },
+      [](std::istream& in) { OdometryTrack::parse(in, "odo.csv", &kRobot); });
 }
 
 TEST(OdometryFile, CountsNeedAValidRobot) {
@@ -182,28 +198,17 @@ TEST(RobotFile, ParsesTheKeys) {
 
 TEST(RobotFile, EachMalformedFileIsRejected) {
   const std::string ok = "wheel_base_m: 0.4\nleft_m_per_count: 1e-4\nright_m_per_count: 1e-4\n";
-  const struct {
-    std::string text;
-    std::string want;
-  } cases[] = {
-      {"wheel_base_m: 0.4\nleft_m_per_count: 1e-4\n",
-       "robot.yaml: missing key 'right_m_per_count'"},
-      {ok + "wheel_base: 1\n", "robot.yaml:4: unknown key 'wheel_base'"},
-      {ok + "wheel_base_m: 0.5\n", "robot.yaml:4: key 'wheel_base_m' given twice"},
-      {"wheel_base_m 0.4\n", "robot.yaml:1: expected 'key: value'"},
-      {"wheel_base_m: -0.4\n", "robot.yaml:1: wheel_base_m must be > 0"},
-      {"wheel_base_m: wide\n", "robot.yaml:1: wheel_base_m 'wide' is not a number"},
-  };
-  for (const auto& c : cases) {
-    std::istringstream in(c.text);
-    std::string got;
-    try {
-      parse_robot_params(in, "robot.yaml");
-    } catch (const OdometryFileError& e) {
-      got = e.what();
-    }
-    EXPECT_EQ(got.rfind(c.want, 0), 0u) << "file:\n" << c.text << "\nmessage: " << got;
-  }
+  expect_errors(
+      {
+          {"wheel_base_m: 0.4\nleft_m_per_count: 1e-4\n",
+           "robot.yaml: missing key 'right_m_per_count'"},
+          {ok + "wheel_base: 1\n", "robot.yaml:4: unknown key 'wheel_base'"},
+          {ok + "wheel_base_m: 0.5\n", "robot.yaml:4: key 'wheel_base_m' given twice"},
+          {"wheel_base_m 0.4\n", "robot.yaml:1: expected 'key: value'"},
+          {"wheel_base_m: -0.4\n", "robot.yaml:1: wheel_base_m must be > 0"},
+          {"wheel_base_m: wide\n", "robot.yaml:1: wheel_base_m 'wide' is not a number"},
+      },
+      [](std::istream& in) { parse_robot_params(in, "robot.yaml"); });
 }
 
 TEST(FrameTimes, ParsesAndRejects) {
@@ -212,29 +217,18 @@ TEST(FrameTimes, ParsesAndRejects) {
   ASSERT_EQ(ft.size(), 2u);
   EXPECT_EQ(ft[1].frame, "frame_001.png");
   EXPECT_EQ(ft[1].t_s, 0.15);
-  const struct {
-    std::string text;
-    std::string want;
-  } cases[] = {
-      {"", "times.csv:0: empty file"},
-      {"name,t\na.png,1\n", "times.csv:1: header 'name,t' is not frame,t_s"},
-      {"frame,t_s\n", "times.csv:1: no frames listed"},
-      {"frame,t_s\na.png,1\na.png,2\n", "times.csv:3: frame 'a.png' listed twice"},
-      {"frame,t_s\na.png,1\nb.png,1\n", "times.csv:3: time 1 is not after"},
-      {"frame,t_s\na.png\n", "times.csv:2: expected 2 fields, got 1"},
-      {"frame,t_s\n,1\n", "times.csv:2: empty frame name"},
-      {"frame,t_s\na.png,soon\n", "times.csv:2: t_s 'soon' is not a number"},
-  };
-  for (const auto& c : cases) {
-    std::istringstream in(c.text);
-    std::string got;
-    try {
-      parse_frame_times(in, "times.csv");
-    } catch (const OdometryFileError& e) {
-      got = e.what();
-    }
-    EXPECT_EQ(got.rfind(c.want, 0), 0u) << "file:\n" << c.text << "\nmessage: " << got;
-  }
+  expect_errors(
+      {
+          {"", "times.csv:0: empty file"},
+          {"name,t\na.png,1\n", "times.csv:1: header 'name,t' is not frame,t_s"},
+          {"frame,t_s\n", "times.csv:1: no frames listed"},
+          {"frame,t_s\na.png,1\na.png,2\n", "times.csv:3: frame 'a.png' listed twice"},
+          {"frame,t_s\na.png,1\nb.png,1\n", "times.csv:3: time 1 is not after"},
+          {"frame,t_s\na.png\n", "times.csv:2: expected 2 fields, got 1"},
+          {"frame,t_s\n,1\n", "times.csv:2: empty frame name"},
+          {"frame,t_s\na.png,soon\n", "times.csv:2: t_s 'soon' is not a number"},
+      },
+      [](std::istream& in) { parse_frame_times(in, "times.csv"); });
 }
 
 }  // namespace
