@@ -36,8 +36,31 @@ struct RunOptions {
   // The frames are one sequence from a moving robot: a pose farther from the
   // previous frame's than the robot can move is `jump` (host::TrackOptions).
   bool track = false;
+  // Measured odometry (docs/navigation_io.md): the flow and tape-width
+  // ceiling heights and the odometry scale per frame in extra CSV columns.
+  std::string odometry_file;     // t_s,left_ticks,right_ticks or t_s,v_mps,omega_radps
+  std::string robot_file;        // wheel base and metres per count (counts format)
+  std::string frame_times_file;  // frame,t_s (frame = PNG file name)
+  double fps = 0.0;              // > 0 and no frame-time file: frame i at i / fps
 };
 int run_frames(const RunOptions& o);
+
+// `ceilnav render-drive`: frames rendered along a straight or gently curving path
+// over the default corridor, with the wheel odometry the robot would log (a
+// chosen scale error, encoder quantisation) and the frames' exposure times.
+struct RenderDriveOptions {
+  std::string out_dir;
+  std::string path = "curve";  // straight | curve
+  double length_m = 14.0;
+  double speed_mps = 0.5;
+  double fps = 2.0;
+  double tick_hz = 50.0;
+  double scale_error = 0.0;  // the odometry reports (1 + e) times the travel
+  double wheel_base_m = 0.4;
+  double m_per_count = 1e-4;
+  uint64_t seed = 1;
+};
+int run_render_drive(const RenderDriveOptions& o);
 
 struct RenderOptions {
   std::string out_dir;
@@ -98,7 +121,7 @@ struct DriveOptions {
   std::string steering = "feedback";  // feedback | linear | pure-pursuit
   double pitch_deg = 45.0;
   int width = 320, height = 240;  // the camera: the demo camera scaled (scaled_camera)
-  double max_time_s = 0.0;  // 0: from the route's length
+  double max_time_s = 0.0;        // 0: from the route's length
   bool plot = true;
   bool quiet = false;
   bool require = false;  // exit 1 unless the goals are met

@@ -16,6 +16,7 @@
 #include "common/version.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/frame_io.hpp"
+#include "nav/odometry.hpp"
 
 namespace {
 
@@ -117,7 +118,58 @@ CLI::App* add_run_command(CLI::App& app, RunOptions& run) {
   run_cmd->add_flag("--track", run.track,
                     "The frames are one sequence in name order: a pose farther from the previous "
                     "ok frame's than the robot can move between frames is 'jump'");
+  auto* odo = run_cmd->add_option(
+      "--odometry", run.odometry_file,
+      "Measured odometry CSV (t_s,left_ticks,right_ticks or t_s,v_mps,omega_radps): adds the "
+      "flow and tape-width ceiling heights and the odometry scale to the CSV");
+  run_cmd
+      ->add_option("--robot", run.robot_file,
+                   "Robot YAML (wheel_base_m, left_m_per_count, right_m_per_count) for "
+                   "encoder counts")
+      ->needs(odo);
+  auto* times = run_cmd
+                    ->add_option("--frame-times", run.frame_times_file,
+                                 "CSV frame,t_s: each PNG's file name and mid-exposure time")
+                    ->needs(odo);
+  run_cmd->add_option("--fps", run.fps, "Frame i (name order) exposed at i / F s")
+      ->check(finite_in(1e-6, 1e6))
+      ->needs(odo)
+      ->excludes(times);
   return run_cmd;
+}
+
+// `ceilnav render-drive` and its options, parsed into `drive`.
+CLI::App* add_render_drive_command(CLI::App& app, RenderDriveOptions& drive) {
+  auto* cmd = app.add_subcommand(
+      "render-drive",
+      "Render a drive over the corridor with the wheel odometry it logs (frames/, scene.yaml, "
+      "odometry.csv, robot.yaml, frame_times.csv, truth.csv) for run --odometry");
+  cmd->add_option("--out", drive.out_dir, "Output folder (written whole or not at all)")
+      ->required();
+  cmd->add_option("--path", drive.path, "straight or curve (gentle S-curves)")
+      ->check(CLI::IsMember({"straight", "curve"}))
+      ->capture_default_str();
+  cmd->add_option("--length", drive.length_m, "Distance along the corridor, m")
+      ->check(finite_in(0.5, 50.0))
+      ->capture_default_str();
+  cmd->add_option("--speed", drive.speed_mps, "m/s")
+      ->check(finite_in(0.05, 5.0))
+      ->capture_default_str();
+  cmd->add_option("--fps", drive.fps, "Frames per second")
+      ->check(finite_in(0.1, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--tick-hz", drive.tick_hz, "Odometry ticks per second")
+      ->check(finite_in(1.0, 10000.0))
+      ->capture_default_str();
+  cmd->add_option("--scale-error", drive.scale_error,
+                  "The odometry reports (1 + E) times the wheels' travel")
+      ->check(finite_in(-0.5, 0.5))
+      ->capture_default_str();
+  cmd->add_option("--m-per-count", drive.m_per_count, "Wheel travel per encoder count, m")
+      ->check(finite_in(1e-7, 0.1))
+      ->capture_default_str();
+  cmd->add_option("--seed", drive.seed, "Noise seed")->check(unsigned_integer());
+  return cmd;
 }
 
 // `ceilnav render` and its options, parsed into `render`.
@@ -456,6 +508,7 @@ int main(int argc, char** argv) {
   PatternAccuracyOptions pacc;
   ExposureOptions expo;
   DriveOptions drive;
+  RenderDriveOptions render_drive;
   CLI::App* demo_cmd = add_demo_command(app, demo);
   CLI::App* run_cmd = add_run_command(app, run);
   CLI::App* render_cmd = add_render_command(app, render);
@@ -465,6 +518,7 @@ int main(int argc, char** argv) {
   CLI::App* pacc_cmd = add_pattern_accuracy_command(app, pacc);
   CLI::App* expo_cmd = add_exposure_command(app, expo);
   CLI::App* drive_cmd = add_drive_command(app, drive);
+  CLI::App* render_drive_cmd = add_render_drive_command(app, render_drive);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -477,8 +531,12 @@ int main(int argc, char** argv) {
     if (*pacc_cmd) return run_pattern_accuracy(pacc);
     if (*expo_cmd) return run_exposure(expo);
     if (*drive_cmd) return run_drive(drive);
+    if (*render_drive_cmd) return run_render_drive(render_drive);
   } catch (const ceilnav::host::ConfigError& e) {
     std::cerr << "ceilnav: scene error: " << e.what() << '\n';
+    return 1;
+  } catch (const ceilnav::nav::OdometryFileError& e) {
+    std::cerr << "ceilnav: odometry error: " << e.what() << '\n';
     return 1;
   } catch (const ceilnav::host::InputError& e) {
     std::cerr << "ceilnav: input error: " << e.what() << '\n';

@@ -12,20 +12,36 @@ std::string frame_status(const host::FrameOutcome& outcome) {
 }
 
 void write_results_header(std::ostream& out) {
-  CsvWriter(out).row({"frame",          "status",
-                      "yaw_rad",        "offset_m",
-                      "pitch_rad",      "vp_u",
-                      "vp_v",           "pitch_est_rad",
-                      "points_used",    "residual_px",
-                      "threshold",      "passes",
-                      "zenith_yaw_rad", "zenith_offset_m",
-                      "zenith_status",  "visible_length_m",
-                      "coverage",       "width_consistent",
-                      "ends_at_border", "contrast_sigma"});
+  CsvWriter(out).row({"frame",
+                      "status",
+                      "yaw_rad",
+                      "offset_m",
+                      "pitch_rad",
+                      "vp_u",
+                      "vp_v",
+                      "pitch_est_rad",
+                      "points_used",
+                      "residual_px",
+                      "threshold",
+                      "passes",
+                      "zenith_yaw_rad",
+                      "zenith_offset_m",
+                      "zenith_status",
+                      "visible_length_m",
+                      "coverage",
+                      "width_consistent",
+                      "ends_at_border",
+                      "contrast_sigma",
+                      "flow_ceiling_m",
+                      "flow_ceiling_se_m",
+                      "flow_range_m",
+                      "flow_frames",
+                      "width_ceiling_m",
+                      "odometry_scale"});
 }
 
 void write_results_row(std::ostream& out, const std::string& frame_name,
-                       const host::FrameOutcome& o) {
+                       const host::FrameOutcome& o, const OdometryColumns& odo) {
   constexpr int kDigits = 10;  // significant digits of every real column
   const std::string status = frame_status(o);
   const bool ok = status == "ok";
@@ -68,6 +84,19 @@ void write_results_row(std::ostream& out, const std::string& frame_name,
     w.empty();
   }
   w.general(value(fitted, ev.contrast_sigma), 4);
+  const auto opt = [&](const std::optional<double>& v) {
+    w.general(value(v.has_value(), v.value_or(0.0)), kDigits);
+  };
+  opt(odo.flow_ceiling_m);
+  opt(odo.flow_ceiling_se_m);
+  opt(odo.flow_range_m);
+  if (odo.flow_frames) {
+    w.integer(*odo.flow_frames);
+  } else {
+    w.empty();
+  }
+  opt(odo.width_ceiling_m);
+  opt(odo.odometry_scale);
   w.end_row();
 }
 

@@ -1,6 +1,7 @@
 // The results table of `ceilnav run` and `ceilnav demo`: one row per frame.
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -18,9 +19,20 @@ namespace ceilnav::app {
 // noise sigmas) are filled whenever a centre line was fitted, ok or not. A value
 // that does not exist for the frame (failed status, vanishing point at
 // infinity, no pitch estimate, not a zenith camera) is an empty field, never NaN.
+// Then the odometry columns of `run --odometry` (apps/odometry_height.hpp),
+// empty when not measured (always, without --odometry): flow_ceiling_m,
+// flow_ceiling_se_m, flow_range_m, flow_frames, width_ceiling_m, odometry_scale.
+struct OdometryColumns {
+  std::optional<double> flow_ceiling_m;     // tape-end track fit with the measured odometry
+  std::optional<double> flow_ceiling_se_m;  // its standard error from the fit's residuals
+  std::optional<double> flow_range_m;       // the tracked tape end's range ahead (eq. 57)
+  std::optional<int> flow_frames;           // frames in that track
+  std::optional<double> width_ceiling_m;    // this frame, from the tape's image width
+  std::optional<double> odometry_scale;     // flow height / width height, drive so far
+};
 void write_results_header(std::ostream& out);
 void write_results_row(std::ostream& out, const std::string& frame_name,
-                       const host::FrameOutcome& outcome);
+                       const host::FrameOutcome& outcome, const OdometryColumns& odometry = {});
 
 // The status word of a frame: "ok" or the reason.
 std::string frame_status(const host::FrameOutcome& outcome);

@@ -32,7 +32,7 @@ expect_error() {
   ok "$name"
 }
 
-for cmd in "" demo run render accuracy exposure profile pattern pattern-accuracy; do
+for cmd in "" demo run render accuracy exposure profile pattern pattern-accuracy drive render-drive; do
   if $CEILNAV $cmd --help >"$work/help.txt" 2>&1 && grep -q -- "--" "$work/help.txt"; then
     ok "help ${cmd:-top}"
   else
@@ -487,6 +487,103 @@ expect_error "pattern-accuracy vignetting negative" "--vignetting" "" -- pattern
 expect_error "pattern-accuracy sweep with csv" "photometric-sweep.*excludes|excludes.*photometric-sweep" "$work/sweep.csv" -- pattern-accuracy --photometric-sweep --csv "$work/sweep.csv"
 expect_error "pattern-accuracy sweep with plot" "photometric-sweep.*excludes|excludes.*photometric-sweep" "$work/sweep.png" -- pattern-accuracy --photometric-sweep --plot "$work/sweep.png"
 expect_error "pattern-accuracy sweep with gain" "photometric-sweep.*excludes|excludes.*photometric-sweep" "" -- pattern-accuracy --photometric-sweep --gain 1.1
+
+# run --odometry: a rendered drive towards the gap at 6 m with wheel odometry
+# that reports 1 % too much travel. The tape-width height needs no odometry;
+# the flow height carries the odometry's scale, which the run estimates.
+drive=$work/drive
+for cmd in render-drive; do
+  if $CEILNAV $cmd --help >"$work/help.txt" 2>&1 && grep -q -- "--scale-error" "$work/help.txt"; then ok "help $cmd"; else bad "help $cmd"; fi
+done
+if $CEILNAV render-drive --out "$drive" --path curve --length 6 --scale-error 0.01 --seed 3 >/dev/null 2>&1 &&
+  [ -f "$drive/odometry.csv" ] && [ -f "$drive/robot.yaml" ] && [ -f "$drive/frame_times.csv" ]; then
+  ok "render-drive"
+else
+  bad "render-drive"
+fi
+# col FILE NAME: the column number of NAME in FILE's header.
+col() { head -1 "$1" | tr ',' '\n' | grep -nx "$2" | cut -d: -f1; }
+# last_value FILE NAME: the last non-empty value of column NAME.
+last_value() { awk -F, -v c="$(col "$1" "$2")" 'NR > 1 && $c != "" { v = $c } END { print v }' "$1"; }
+# within NAME VALUE WANT REL: |VALUE / WANT - 1| <= REL.
+within() {
+  if [ -n "$2" ] && awk -v v="$2" -v w="$3" -v r="$4" 'BEGIN { d = v / w - 1; exit !(d <= r && d >= -r) }'; then
+    ok "$1 ($2, want $3)"
+  else
+    bad "$1" "got '$2', want $3 within $4"
+  fi
+}
+odo_out=$work/odo/out.csv
+mkdir -p "$work/odo"
+if $CEILNAV run --frames "$drive/frames" --scene "$drive/scene.yaml" --out "$odo_out" \
+  --odometry "$drive/odometry.csv" --robot "$drive/robot.yaml" \
+  --frame-times "$drive/frame_times.csv" 2>"$work/odo.err"; then
+  ok "run --odometry exit 0"
+else
+  bad "run --odometry exit 0" "$(cat "$work/odo.err")"
+fi
+for c in flow_ceiling_m flow_ceiling_se_m flow_range_m flow_frames width_ceiling_m odometry_scale; do
+  if [ -n "$(col "$odo_out" "$c")" ]; then ok "column $c"; else bad "column $c"; fi
+done
+# Truth: 2.3 m above the camera; the odometry's scale is 1.01.
+within "odometry: width height" "$(last_value "$odo_out" width_ceiling_m)" 2.3 0.005
+within "odometry: flow height = c x scale" "$(last_value "$odo_out" flow_ceiling_m)" 2.323 0.005
+within "odometry: scale estimate" "$(last_value "$odo_out" odometry_scale)" 1.01 0.004
+# The range of the tracked tape end (6, 0) at the last frame with a fit, from
+# the truth pose of that frame, times the odometry's scale.
+range_row=$(awk -F, -v c="$(col "$odo_out" flow_range_m)" 'NR > 1 && $c != "" { f = $1; v = $c } END { print f, v }' "$odo_out")
+range_want=$(awk -F, -v f="${range_row% *}" '$1 == f { printf "%.6f", 1.01 * ((6 - $3) * cos($5) - $4 * sin($5)) }' "$drive/truth.csv")
+within "odometry: tape end range (eq. 57)" "${range_row#* }" "${range_want:-1}" 0.01
+# The flow columns are empty on frames without a tracked tape end, never NaN.
+if grep -qi nan "$odo_out"; then bad "odometry: no NaN"; else ok "odometry: no NaN"; fi
+# Without --odometry the columns exist and are empty.
+if [ "$(last_value "$out" width_ceiling_m)" = "" ] && [ -n "$(col "$out" width_ceiling_m)" ]; then
+  ok "odometry columns empty without --odometry"
+else
+  bad "odometry columns empty without --odometry"
+fi
+# Body velocities from the counts (0.1 mm per count, wheel base 0.4 m), each
+# row's velocity held until the next; frames at i / 2 s (--fps).
+awk -F, 'BEGIN { n = 0 } NR > 1 { t[n] = $1; l[n] = $2; r[n] = $3; n++ }
+  END { print "t_s,v_mps,omega_radps";
+        for (i = 0; i < n; i++) {
+          if (i + 1 < n) { dt = t[i + 1] - t[i]; dl = (l[i + 1] - l[i]) * 1e-4; dr = (r[i + 1] - r[i]) * 1e-4 }
+          printf "%s,%.9f,%.9f\n", t[i], (dl + dr) / 2 / dt, (dr - dl) / 0.4 / dt } }' \
+  "$drive/odometry.csv" >"$work/odo/velocity.csv"
+if $CEILNAV run --frames "$drive/frames" --scene "$drive/scene.yaml" --out "$work/odo/vel.csv" \
+  --odometry "$work/odo/velocity.csv" --fps 2 2>"$work/odo.err"; then
+  ok "run --odometry velocities --fps exit 0"
+else
+  bad "run --odometry velocities --fps exit 0" "$(cat "$work/odo.err")"
+fi
+within "odometry velocities: scale estimate" "$(last_value "$work/odo/vel.csv" odometry_scale)" 1.01 0.004
+
+# Bad odometry inputs: a message naming the problem, non-zero exit, no CSV.
+ob=$work/odobad/out.csv
+mkdir -p "$work/odobad"
+run_odo() { echo run --frames "$drive/frames" --scene "$drive/scene.yaml" --out "$ob" "$@"; }
+printf 't,left,right\n0,0,0\n1,5,5\n' >"$work/odobad/header.csv"
+printf 't_s,left_ticks,right_ticks\n0,0,0\n1,5,5\n1,6,6\n' >"$work/odobad/time.csv"
+printf 't_s,left_ticks,right_ticks\n0,0,0\n1,5\n' >"$work/odobad/fields.csv"
+printf 't_s,v_mps,omega_radps\n0,0.5,0\n1,fast,0\n' >"$work/odobad/number.csv"
+printf 't_s,v_mps,omega_radps\n0,0.5,0\n1,0.5,0\n' >"$work/odobad/short.csv"
+printf 'frame,t_s\nframe_0000.png,0.01\n' >"$work/odobad/times.csv"
+printf 'wheel_base_m: 0.4\nleft_m_per_count: 1e-4\n' >"$work/odobad/robot.yaml"
+# shellcheck disable=SC2046
+expect_error "odometry bad header" "header.csv:1: header" "$ob" -- $(run_odo --odometry "$work/odobad/header.csv" --robot "$drive/robot.yaml" --fps 2)
+expect_error "odometry time not increasing" "time.csv:4: time 1 is not after" "$ob" -- $(run_odo --odometry "$work/odobad/time.csv" --robot "$drive/robot.yaml" --fps 2)
+expect_error "odometry missing field" "fields.csv:3: expected 3 fields" "$ob" -- $(run_odo --odometry "$work/odobad/fields.csv" --robot "$drive/robot.yaml" --fps 2)
+expect_error "odometry not a number" "number.csv:3: v_mps 'fast' is not a number" "$ob" -- $(run_odo --odometry "$work/odobad/number.csv" --fps 2)
+expect_error "odometry counts without robot" "--robot" "$ob" -- $(run_odo --odometry "$drive/odometry.csv" --fps 2)
+expect_error "odometry robot key missing" "robot.yaml: missing key 'right_m_per_count'" "$ob" -- $(run_odo --odometry "$drive/odometry.csv" --robot "$work/odobad/robot.yaml" --fps 2)
+expect_error "odometry frames outside its span" "outside the odometry's span" "$ob" -- $(run_odo --odometry "$work/odobad/short.csv" --fps 2)
+expect_error "odometry frame without a time" "no time for frame 'frame_0001.png'" "$ob" -- $(run_odo --odometry "$drive/odometry.csv" --robot "$drive/robot.yaml" --frame-times "$work/odobad/times.csv")
+expect_error "odometry without frame times" "--frame-times FILE or --fps" "$ob" -- $(run_odo --odometry "$drive/odometry.csv" --robot "$drive/robot.yaml")
+expect_error "odometry missing file" "cannot open" "$ob" -- $(run_odo --odometry "$work/odobad/none.csv" --fps 2)
+expect_error "robot without odometry" "--robot requires --odometry" "$ob" -- $(run_odo --robot "$drive/robot.yaml")
+expect_error "fps with frame times" "excludes" "$ob" -- $(run_odo --odometry "$drive/odometry.csv" --fps 2 --frame-times "$drive/frame_times.csv")
+expect_error "fps zero" "--fps" "$ob" -- $(run_odo --odometry "$drive/odometry.csv" --fps 0)
+expect_error "render-drive bad path" "--path" "$work/odobad/d" -- render-drive --out "$work/odobad/d" --path zigzag
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

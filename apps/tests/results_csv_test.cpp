@@ -22,10 +22,11 @@ std::vector<std::string> split(const std::string& line) {
 }
 
 // Header and row as name -> field.
-std::vector<std::pair<std::string, std::string>> table(const host::FrameOutcome& o) {
+std::vector<std::pair<std::string, std::string>> table(const host::FrameOutcome& o,
+                                                       const OdometryColumns& odo = {}) {
   std::ostringstream out;
   write_results_header(out);
-  write_results_row(out, "f.png", o);
+  write_results_row(out, "f.png", o, odo);
   std::istringstream in(out.str());
   std::string h, r;
   std::getline(in, h);
@@ -94,6 +95,34 @@ TEST(ResultsCsv, PoseColumnsEmptyWhenNotOkEvidenceKept) {
   EXPECT_EQ(field(t, "coverage"), "0.75");
   EXPECT_EQ(field(t, "width_consistent"), "12/40");
   EXPECT_EQ(field(t, "ends_at_border"), "1");
+}
+
+TEST(ResultsCsv, OdometryColumnsEmptyUnlessMeasured) {
+  const char* cols[] = {"flow_ceiling_m", "flow_ceiling_se_m", "flow_range_m",
+                        "flow_frames",    "width_ceiling_m",   "odometry_scale"};
+  const auto none = table(outcome(host::Status::ok, std::nullopt));
+  for (const char* c : cols) EXPECT_EQ(field(none, c), "") << c;
+  OdometryColumns odo;
+  odo.flow_ceiling_m = 2.3125;
+  odo.flow_ceiling_se_m = 0.004;
+  odo.flow_range_m = 4.5;
+  odo.flow_frames = 12;
+  odo.width_ceiling_m = 2.299;
+  odo.odometry_scale = 1.01;
+  const auto t = table(outcome(host::Status::ok, std::nullopt), odo);
+  EXPECT_EQ(field(t, "flow_ceiling_m"), "2.3125");
+  EXPECT_EQ(field(t, "flow_ceiling_se_m"), "0.004");
+  EXPECT_EQ(field(t, "flow_range_m"), "4.5");
+  EXPECT_EQ(field(t, "flow_frames"), "12");
+  EXPECT_EQ(field(t, "width_ceiling_m"), "2.299");
+  EXPECT_EQ(field(t, "odometry_scale"), "1.01");
+  // Only the width measured (no tape end tracked): the flow columns stay empty.
+  OdometryColumns width_only;
+  width_only.width_ceiling_m = 2.3;
+  const auto w = table(outcome(host::Status::ok, std::nullopt), width_only);
+  EXPECT_EQ(field(w, "flow_ceiling_m"), "");
+  EXPECT_EQ(field(w, "flow_frames"), "");
+  EXPECT_EQ(field(w, "width_ceiling_m"), "2.3");
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "golden/default_scene.hpp"
 #include "golden/renderer.hpp"
 #include "golden/run_scanner_ref.hpp"
 #include "golden/scene.hpp"
@@ -170,6 +171,137 @@ TEST(FlowHeight, NoEndWhenTheTapeIsUnbroken) {
   ASSERT_EQ(tp.status, Status::ok);
   EXPECT_FALSE(find_tape_end(runs, cam, c, tp).has_value());
   EXPECT_FALSE(find_tape_end({}, cam, c, tp).has_value());
+}
+
+// A track of exact projections along a curving path: the least-squares fit
+// returns the height and the feature's range exactly; odometry with a scale
+// error s scales the height by s (flow cannot tell c from the odometry's scale).
+TEST(FlowTrack, ExactProjectionsAlongACurveGiveTheHeight) {
+  for (double pitch_deg : {30.0, 45.0, 90.0}) {
+    const CameraConfig c = make_config(pitch_deg, true);
+    const double ahead = c.ceiling_above_camera_m() / std::tan((pitch_deg + 5.0) * kDeg) + 2.0;
+    const Eigen::Vector3d pt(ahead, 0.15, c.ceiling_height_m);
+    for (double scale : {1.0, 1.01, 0.99}) {
+      FlowTrack track(pitch_deg * kDeg, c.ceiling_above_camera_m());
+      golden::CameraPose p{};
+      for (int k = 0; k < 8; ++k) {
+        const double x = 0.15 * k;
+        p = {x, 0.2 * std::sin(x), std::atan(0.2 * std::cos(x))};
+        const Eigen::Vector2d seen = seen_at(c, p, pt, true);
+        const bool continued = track.add({scale * p.x_m, scale * p.y_m, p.yaw_rad}, seen);
+        EXPECT_EQ(continued, k > 0);
+      }
+      const FlowFit f = track.fit();
+      ASSERT_EQ(f.status, Status::ok) << pitch_deg;
+      EXPECT_EQ(f.frames, 8);
+      EXPECT_NEAR(f.ceiling_above_camera_m, scale * c.ceiling_above_camera_m(), 1e-9) << pitch_deg;
+      const double range =
+          (pt.x() - p.x_m) * std::cos(p.yaw_rad) + (pt.y() - p.y_m) * std::sin(p.yaw_rad);
+      EXPECT_NEAR(f.range_m, scale * range, 1e-9) << pitch_deg;
+      EXPECT_LT(f.std_error_m, 1e-9);
+    }
+  }
+}
+
+TEST(FlowTrack, TooShortTracksAndOtherFeaturesStartOver) {
+  const CameraConfig c = make_config(45.0, false);
+  FlowTrack track(45.0 * kDeg, c.ceiling_above_camera_m());
+  const Eigen::Vector3d a(4.0, 0.0, c.ceiling_height_m), b(6.0, 0.0, c.ceiling_height_m);
+  EXPECT_FALSE(track.add({0.0, 0.0, 0.0}, seen_at(c, {0.0, 0.0, 0.0}, a, false)));
+  EXPECT_TRUE(track.add({0.1, 0.0, 0.0}, seen_at(c, {0.1, 0.0, 0.0}, a, false)));
+  EXPECT_EQ(track.fit().status, Status::degenerate);  // two frames
+  EXPECT_TRUE(track.add({0.2, 0.0, 0.0}, seen_at(c, {0.2, 0.0, 0.0}, a, false)));
+  EXPECT_EQ(track.fit().status, Status::degenerate);  // 0.2 m of travel
+  EXPECT_TRUE(track.add({0.4, 0.0, 0.0}, seen_at(c, {0.4, 0.0, 0.0}, a, false)));
+  EXPECT_EQ(track.fit().status, Status::ok);
+  // A feature 2 m farther is another track.
+  EXPECT_FALSE(track.add({0.5, 0.0, 0.0}, seen_at(c, {0.5, 0.0, 0.0}, b, false)));
+  EXPECT_EQ(track.size(), 1);
+  // Above the horizon of a 45 deg camera: not added.
+  EXPECT_FALSE(track.add({0.6, 0.0, 0.0}, {0.0, 2.0}));
+  EXPECT_EQ(track.size(), 1);
+}
+
+// Rendered frames of the default corridor camera (distortion, blur, noise):
+// the tape's image width gives the height within 0.5 %, whatever the yaw and
+// offset (the estimator would fail this if it were off by 1 %).
+TEST(WidthHeight, RenderedTapeGivesTheHeightWithinHalfAPercent) {
+  const CameraConfig c = golden::default_camera();
+  const CameraModel cam(c);
+  const golden::CeilingScene scene = golden::default_corridor(c);
+  golden::RenderParams rp = golden::default_render_params();
+  int k = 0;
+  for (const golden::CameraPose pose :
+       {golden::CameraPose{0.0, 0.0, 0.0}, golden::CameraPose{1.0, 0.25, 0.12},
+        golden::CameraPose{2.0, -0.3, -0.1}, golden::CameraPose{17.0, 0.1, 0.05}}) {
+    rp.noise_seed = static_cast<uint64_t>(100 + k++);
+    const cv::Mat f = golden::render_frame(c, scene, pose, rp);
+    const auto runs = runs_of(f, 18 + 12, 18 + 4);
+    const TapePose tp = estimate_tape_pose(runs, cam, c);
+    ASSERT_EQ(tp.status, Status::ok);
+    const WidthHeight h = ceiling_height_from_tape_width(f, runs, cam, c, tp);
+    ASSERT_EQ(h.status, Status::ok);
+    const double err = h.ceiling_above_camera_m / c.ceiling_above_camera_m() - 1.0;
+    std::printf("pose (%.1f, %+.2f, %+.2f): width height %.4f m (%+.3f %%, se %.4f m, %d rows)\n",
+                pose.x_m, pose.y_m, pose.yaw_rad, h.ceiling_above_camera_m, 100.0 * err,
+                h.std_error_m, h.rows);
+    EXPECT_GT(h.rows, 50);
+    EXPECT_LT(std::abs(err), 0.005);
+  }
+  // Without runs or with a failed pose: degenerate.
+  const cv::Mat f = golden::render_frame(c, scene, {}, rp);
+  EXPECT_EQ(ceiling_height_from_tape_width(f, {}, cam, c, TapePose{}).status, Status::degenerate);
+}
+
+// A rendered drive towards the gap at 6 m, the tape end tracked over many
+// frames with odometry scaled by 1 +- 1 %: the least-squares track fit gives
+// c times the scale within 0.5 %.
+TEST(FlowTrack, RenderedDriveGivesTheHeightTimesTheOdometryScale) {
+  const CameraConfig c = golden::default_camera();
+  const CameraModel cam(c);
+  const golden::CeilingScene scene = golden::default_corridor(c);
+  golden::RenderParams rp = golden::default_render_params();
+  std::vector<std::pair<golden::CameraPose, Eigen::Vector2d>> seen;
+  double grey_bias = 0.0, run_bias = 0.0;
+  for (int k = 0; k < 18; ++k) {
+    const double x = 0.25 * k;
+    const golden::CameraPose pose{x, 0.1 + 0.1 * std::sin(0.5 * x), 0.05 * std::cos(0.5 * x)};
+    rp.noise_seed = static_cast<uint64_t>(200 + k);
+    const cv::Mat f = golden::render_frame(c, scene, pose, rp);
+    const auto runs = runs_of(f, 18 + 12, 18 + 4);
+    const TapePose tp = estimate_tape_pose(runs, cam, c);
+    if (tp.status != Status::ok) continue;
+    const auto end = find_tape_end(f, runs, cam, c, tp);
+    const auto run_end = find_tape_end(runs, cam, c, tp);
+    if (!end || !run_end) continue;
+    seen.emplace_back(pose, *end);
+    const Eigen::Vector2d truth =
+        seen_at(c, pose, Eigen::Vector3d(6.0, 0.0, c.ceiling_height_m), true);
+    grey_bias += (end->y() - truth.y()) * c.fy();
+    run_bias += (run_end->y() - truth.y()) * c.fy();
+  }
+  ASSERT_GE(seen.size(), 12u);
+  grey_bias /= static_cast<double>(seen.size());
+  run_bias /= static_cast<double>(seen.size());
+  std::printf("mean end row error: grey %+.3f px, runs %+.3f px\n", grey_bias, run_bias);
+  // The runs lose the faint rows of the blurred end (biased towards the tape,
+  // up); the grey masses do not.
+  EXPECT_LT(std::abs(grey_bias), 0.2);
+  EXPECT_LT(std::abs(grey_bias), std::abs(run_bias));
+  for (double scale : {1.0, 1.01, 0.99}) {
+    FlowTrack track(c.camera_pitch_deg * kDeg, c.ceiling_above_camera_m());
+    for (const auto& [pose, end] : seen) {
+      track.add({scale * pose.x_m, scale * pose.y_m, pose.yaw_rad}, end);
+    }
+    const FlowFit f = track.fit();
+    ASSERT_EQ(f.status, Status::ok);
+    EXPECT_EQ(f.frames, static_cast<int>(seen.size()));
+    const double err = f.ceiling_above_camera_m / (scale * c.ceiling_above_camera_m()) - 1.0;
+    std::printf(
+        "scale %.2f: flow height %.4f m over %d frames, %.2f m (%+.3f %% of c s, se %.4f)\n", scale,
+        f.ceiling_above_camera_m, f.frames, f.travel_m, 100.0 * err, f.std_error_m);
+    EXPECT_LT(std::abs(err), 0.005);
+  }
 }
 
 }  // namespace
