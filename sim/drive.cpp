@@ -201,6 +201,9 @@ bool Drive::step() {
   row.lateral_error_m = truth_err.lateral_m;
   row.heading_error_rad = truth_err.heading_rad;
   row.pose_nees = ekf_->pose_nees(robot_.pose());
+  row.left_scale_error = ekf_->state()(nav::state::left_scale);
+  row.right_scale_error = ekf_->state()(nav::state::right_scale);
+  row.yaw_scale_error = ekf_->state()(nav::state::yaw_scale);
   row.distance_m = driven_m_;
   row.blind_m = blind_m_;
   if (exposed_frame_ >= 0 && row.frame < 0) row.frame_status = exposed_status_;
@@ -291,16 +294,18 @@ void write_trajectory_csv(const std::string& path, const std::vector<DriveRow>& 
     if (!f) throw std::runtime_error("cannot write " + tmp);
     f << "t_s,x_m,y_m,yaw_rad,est_x_m,est_y_m,est_yaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,"
          "v_cmd_mps,omega_cmd_radps,mode,leg,lateral_error_m,heading_error_rad,pose_nees,"
-         "distance_m,blind_m,frame_status,applied_frame,outcome\n";
+         "distance_m,blind_m,frame_status,applied_frame,outcome,left_scale_error,right_scale_error,"
+         "yaw_scale_error\n";
     for (const DriveRow& r : rows) {
       f << fmt::format(
           "{:.4f},{:.6f},{:.6f},{:.7f},{:.6f},{:.6f},{:.7f},{:.3e},{:.3e},{:.3e},"
-          "{:.4f},{:.5f},{},{},{:.3e},{:.3e},{:.4g},{:.4f},{:.4f},{},{},{}\n",
+          "{:.4f},{:.5f},{},{},{:.3e},{:.3e},{:.4g},{:.4f},{:.4f},{},{},{},{:.5f},{:.5f},{:.5f}\n",
           r.t_s, r.truth.x_m, r.truth.y_m, r.truth.yaw_rad, r.estimate.x_m, r.estimate.y_m,
           r.estimate.yaw_rad, r.sigma_x_m, r.sigma_y_m, r.sigma_yaw_rad, r.v_cmd_mps,
           r.omega_cmd_radps, nav::to_string(r.mode), r.leg, r.lateral_error_m, r.heading_error_rad,
           r.pose_nees, r.distance_m, r.blind_m, r.frame_status,
-          r.frame >= 0 ? std::to_string(r.frame) : "", r.outcome);
+          r.frame >= 0 ? std::to_string(r.frame) : "", r.outcome, r.left_scale_error,
+          r.right_scale_error, r.yaw_scale_error);
     }
     if (!f.flush()) throw std::runtime_error("cannot write " + tmp);
   }

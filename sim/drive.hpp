@@ -73,6 +73,8 @@ struct DriveRow {
   double lateral_error_m = 0.0;    // truth: wheel-axis midpoint from the leg's centre line
   double heading_error_rad = 0.0;  // truth: yaw - the leg's direction
   double pose_nees = 0.0;
+  // The filter's odometry calibration: wheel scale errors and heading scale error.
+  double left_scale_error = 0.0, right_scale_error = 0.0, yaw_scale_error = 0.0;
   double distance_m = 0.0;  // truth: travelled so far
   double blind_m = 0.0;     // odometry distance since the last accepted tape measurement
   // The frame whose measurement was applied this tick (-1: none) and what
