@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
@@ -46,7 +47,8 @@ Ekf::Ekf(const EkfOptions& options, const TapeMap* map, double t0_s, const State
     : opt_(options),
       map_(map),
       gate_tape_(chi_square_quantile(options.gate_probability, 2)),
-      gate_pattern_(chi_square_quantile(options.gate_probability, 3)) {
+      gate_pattern_(chi_square_quantile(options.gate_probability, 3)),
+      gate_landmark_(chi_square_quantile(options.gate_probability, 1)) {
   if (!(options.odometry.wheel_base_m > 0.0)) throw std::invalid_argument("wheel base <= 0");
   Entry e;
   e.t_s = t0_s;
@@ -169,12 +171,58 @@ Outcome Ekf::correct_pattern(State& x, Covariance& p, const PatternFix& m) const
   return Outcome::accepted;
 }
 
+// h = (L - c) . u for the landmark L, the camera's floor position c and the
+// tape direction u at L the camera faces (fixed by the map): dh/dc = -u^T,
+// dh/dyaw = 0, then through the mount's Jacobian to the state.
+Outcome Ekf::correct_landmark(State& x, Covariance& p, const LandmarkMeasurement& m) const {
+  if (map_ == nullptr) return Outcome::unassociated;
+  const Pose2 c = camera_pose(x);
+  const Eigen::Vector2d cam(c.x_m, c.y_m);
+  const Eigen::Matrix<double, 3, state::size> jc = camera_jacobian(x);
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Matrix<double, 1, state::size> h_best;
+  double nu_best = 0.0, s_best = 0.0;
+  for (const Landmark& l : map_->landmarks()) {
+    if (l.kind != m.kind) continue;
+    const std::optional<Eigen::Vector2d> u = map_->along_direction(l.position, c.yaw_rad);
+    if (!u) continue;
+    const Eigen::Vector2d rel = l.position - cam;
+    if (rel.norm() > opt_.association.view_radius_m + 1.0) continue;
+    const double predicted = rel.dot(*u);
+    const Eigen::Matrix<double, 1, 3> hc(-u->x(), -u->y(), 0.0);
+    const Eigen::Matrix<double, 1, state::size> h = hc * jc;
+    const double s = (h * p * h.transpose())(0, 0) + m.variance_m2;
+    const double nu = m.along_m - predicted;
+    if (nu * nu / s < best) {
+      best = nu * nu / s;
+      h_best = h;
+      nu_best = nu;
+      s_best = s;
+    }
+  }
+  if (!std::isfinite(best)) return Outcome::unassociated;
+  if (best > gate_landmark_) return Outcome::rejected_gate;
+  kalman_update<1>(x, p, h_best, Eigen::Matrix<double, 1, 1>(nu_best),
+                   Eigen::Matrix<double, 1, 1>(s_best), Eigen::Matrix<double, 1, 1>(m.variance_m2));
+  return Outcome::accepted;
+}
+
 Outcome Ekf::correct(State& x, Covariance& p, const Measurement& m) const {
-  return m.is_tape ? correct_tape(x, p, m.tape) : correct_pattern(x, p, m.pattern);
+  switch (m.kind) {
+    case Measurement::Kind::tape:
+      return correct_tape(x, p, m.tape);
+    case Measurement::Kind::pattern:
+      return correct_pattern(x, p, m.pattern);
+    case Measurement::Kind::landmark:
+      return correct_landmark(x, p, m.landmark);
+  }
+  return Outcome::not_ok;
 }
 
 void Ekf::count(const Measurement& m, Outcome o, int delta) {
-  KindCounters& k = m.is_tape ? counters_.tape : counters_.pattern;
+  KindCounters& k = m.kind == Measurement::Kind::tape      ? counters_.tape
+                    : m.kind == Measurement::Kind::pattern ? counters_.pattern
+                                                           : counters_.landmark;
   switch (o) {
     case Outcome::accepted:
       k.accepted += delta;
@@ -270,8 +318,15 @@ Outcome Ekf::update(const TapeMeasurement& m) {
 
 Outcome Ekf::update(const PatternFix& m) {
   Measurement s;
-  s.is_tape = false;
+  s.kind = Measurement::Kind::pattern;
   s.pattern = m;
+  return submit(s);
+}
+
+Outcome Ekf::update(const LandmarkMeasurement& m) {
+  Measurement s;
+  s.kind = Measurement::Kind::landmark;
+  s.landmark = m;
   return submit(s);
 }
 

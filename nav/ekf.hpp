@@ -89,7 +89,7 @@ struct KindCounters {
   int accepted = 0, pending = 0, rejected_gate = 0, unassociated = 0, too_old = 0, not_ok = 0;
 };
 struct Counters {
-  KindCounters tape, pattern;
+  KindCounters tape, pattern, landmark;
   int repropagated_steps = 0;  // odometry steps re-propagated by retroactive corrections
 };
 
@@ -108,6 +108,10 @@ class Ekf {
 
   Outcome update(const TapeMeasurement& m);
   Outcome update(const PatternFix& m);
+  // A landmark seen along the tape: associated with the map's landmark of its
+  // kind whose predicted distance is nearest in Mahalanobis terms, among
+  // those ahead of the camera within the association's view radius.
+  Outcome update(const LandmarkMeasurement& m);
 
   double time() const { return history_.back().t_s; }
   const State& state() const { return history_.back().x; }
@@ -134,11 +138,20 @@ class Ekf {
   // One of the two kinds (a tagged pair: std::variant trips GCC 12's
   // maybe-uninitialized analysis in the sorting of the pending list).
   struct Measurement {
-    bool is_tape = true;
+    enum class Kind { tape, pattern, landmark } kind = Kind::tape;
     TapeMeasurement tape;
     PatternFix pattern;
-    double exposure_s() const { return is_tape ? tape.time.exposure_s : pattern.time.exposure_s; }
-    bool ok() const { return (is_tape ? tape.status : pattern.status) == MeasurementStatus::ok; }
+    LandmarkMeasurement landmark;
+    const MeasurementTime& time() const {
+      return kind == Kind::tape ? tape.time : kind == Kind::pattern ? pattern.time : landmark.time;
+    }
+    MeasurementStatus status() const {
+      return kind == Kind::tape      ? tape.status
+             : kind == Kind::pattern ? pattern.status
+                                     : landmark.status;
+    }
+    double exposure_s() const { return time().exposure_s; }
+    bool ok() const { return status() == MeasurementStatus::ok; }
   };
   struct Stored {
     Measurement m;
@@ -156,6 +169,7 @@ class Ekf {
   Outcome correct(State& x, Covariance& p, const Measurement& m) const;
   Outcome correct_tape(State& x, Covariance& p, const TapeMeasurement& m) const;
   Outcome correct_pattern(State& x, Covariance& p, const PatternFix& m) const;
+  Outcome correct_landmark(State& x, Covariance& p, const LandmarkMeasurement& m) const;
   std::size_t entry_at(double t_s);  // index of the entry at t_s, splitting a step
   void repropagate_after(std::size_t k);
   void count(const Measurement& m, Outcome o, int delta);
@@ -163,7 +177,7 @@ class Ekf {
 
   EkfOptions opt_;
   const TapeMap* map_;
-  double gate_tape_, gate_pattern_;
+  double gate_tape_, gate_pattern_, gate_landmark_;
   std::deque<Entry> history_;
   std::vector<Stored> pending_;
   Counters counters_;

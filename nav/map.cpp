@@ -65,4 +65,21 @@ std::optional<Association> TapeMap::associate(const TapeMeasurement& m, const Po
   return best;
 }
 
+std::optional<Eigen::Vector2d> TapeMap::along_direction(const Eigen::Vector2d& point,
+                                                        double yaw_rad, double reach_m) const {
+  const Eigen::Vector2d heading(std::cos(yaw_rad), std::sin(yaw_rad));
+  std::optional<Eigen::Vector2d> best;
+  double best_dot = -1.0;
+  for (const TapeSegment& s : segments_) {
+    if (distance_to_segment(point, s) > reach_m) continue;
+    Eigen::Vector2d d = (s.b - s.a).normalized();
+    if (d.dot(heading) < 0.0) d = -d;
+    if (d.dot(heading) > best_dot) {
+      best_dot = d.dot(heading);
+      best = d;
+    }
+  }
+  return best;
+}
+
 }  // namespace ceilnav::nav

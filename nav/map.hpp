@@ -55,6 +55,14 @@ struct Association {
   double mahalanobis2 = 0.0;  // innovation^T S^-1 innovation
 };
 
+// A point of the map a LandmarkMeasurement can name: a tape end (either end
+// of a gap, or of a tape) or a junction, with the directions of the tape
+// through it (unit vectors, one per tape direction at the point).
+struct Landmark {
+  LandmarkMeasurement::Kind kind = LandmarkMeasurement::Kind::tape_end;
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+};
+
 class TapeMap {
  public:
   TapeMap() = default;
@@ -62,6 +70,14 @@ class TapeMap {
 
   void add(const TapeSegment& s) { segments_.push_back(s); }
   const std::vector<TapeSegment>& segments() const { return segments_; }
+  void add_landmark(const Landmark& l) { landmarks_.push_back(l); }
+  const std::vector<Landmark>& landmarks() const { return landmarks_; }
+  // The direction along which a camera at `camera` facing `yaw` measures the
+  // distance to `point`: the direction (either way) of the segment nearest
+  // the point that is closest to the yaw; nullopt without a segment within
+  // `reach_m` of the point.
+  std::optional<Eigen::Vector2d> along_direction(const Eigen::Vector2d& point, double yaw_rad,
+                                                 double reach_m = 0.1) const;
 
   // The segment (and branch) with the smallest squared Mahalanobis innovation
   // among the segments that could be in view of the predicted camera pose
@@ -73,6 +89,7 @@ class TapeMap {
 
  private:
   std::vector<TapeSegment> segments_;
+  std::vector<Landmark> landmarks_;
 };
 
 // Distance from p to the segment [a, b].

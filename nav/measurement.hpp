@@ -51,6 +51,21 @@ struct PatternFix {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // (x, y, yaw)
 };
 
+// A point of the followed tape whose place on the map is known — where a
+// tape ends at a gap, or a junction (host::detect_junctions) — seen at a
+// distance along the tape: the component, along the tape's direction the
+// camera faces, of the point minus the camera's floor position. The tape
+// measurements fix the lateral position and the yaw; these fix the position
+// along the tape, which odometry alone lets drift (docs/navigation.md).
+struct LandmarkMeasurement {
+  enum class Kind { tape_end, junction };
+  MeasurementTime time;
+  MeasurementStatus status = MeasurementStatus::ok;
+  Kind kind = Kind::tape_end;
+  double along_m = 0.0;
+  double variance_m2 = 1e-4;
+};
+
 // Ceiling height above the camera (host/flow_height): configures the tape and
 // pattern estimators; the planar filter does not use it.
 struct CeilingHeight {
