@@ -17,6 +17,7 @@
 #include "drivers/device.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/frame_io.hpp"
+#include "host/junction.hpp"
 #include "host/navigator.hpp"
 
 namespace ceilnav::app {
@@ -52,7 +53,8 @@ int run_frames(const RunOptions& o) {
   for (size_t i = 0; i < frames.size(); ++i) {
     const cv::Mat grey = host::read_grey_frame(frames[i], camera.image_width, camera.image_height);
     const host::FrameOutcome r = nav.process(grey);
-    write_results_row(csv.stream(), frames[i].filename().string(), r);
+    write_results_row(csv.stream(), frames[i].filename().string(), r,
+                      host::detect_junctions(r, nav.camera_model(), camera));
     if (overlays && overlay_due(o.overlay_every, i)) {
       write_png(*overlays, overlay_file_name(frames[i].filename().string()),
                 draw_overlay(grey, r, nav.camera_model()));
