@@ -383,14 +383,15 @@ std::vector<Junction> detect_junctions(std::span<const stream::RunRecord> runs,
     }
   }
   std::erase_if(line, [&](const Interval& iv) { return iv.b - iv.a < tape_w; });
-  // Median run weight of the band within end_window_m of stretch i's end.
+  // Median of a field of the band's runs within end_window_m of stretch i's end.
   std::vector<double> ws;
-  const auto end_weight = [&](size_t i) {
+  const auto end_median = [&](size_t i, double Interval::*field) {
     ws.clear();
     for (const Interval& iv : band) {
       if (iv.b <= line[i].b + 1e-9 && iv.b >= line[i].b - opt.end_window_m &&
-          iv.a >= line[i].a - 1e-9)
-        ws.push_back(iv.weight);
+          iv.a >= line[i].a - 1e-9) {
+        ws.push_back(iv.*field);
+      }
     }
     if (ws.empty()) return 0.0;
     std::nth_element(ws.begin(), ws.begin() + static_cast<std::ptrdiff_t>(ws.size() / 2), ws.end());
@@ -401,19 +402,8 @@ std::vector<Junction> detect_junctions(std::span<const stream::RunRecord> runs,
     const double next = i + 1 < line.size() ? line[i + 1].a : view_hi;
     return std::min(next, view_hi) - line[i].b;
   };
-  // Median width across the tape of the band runs in that window, over W.
-  const auto end_width_ratio = [&](size_t i) {
-    ws.clear();
-    for (const Interval& iv : band) {
-      if (iv.b <= line[i].b + 1e-9 && iv.b >= line[i].b - opt.end_window_m &&
-          iv.a >= line[i].a - 1e-9) {
-        ws.push_back(iv.width / tape_w);
-      }
-    }
-    if (ws.empty()) return 0.0;
-    std::nth_element(ws.begin(), ws.begin() + static_cast<std::ptrdiff_t>(ws.size() / 2), ws.end());
-    return ws[ws.size() / 2];
-  };
+  // The runs' width across the tape in that window, over W.
+  const auto end_width_ratio = [&](size_t i) { return end_median(i, &Interval::width) / tape_w; };
   // Bright tape is cut near the foot of its blurred edges: W to W + 2 px across.
   const auto end_width_ok = [&](size_t i) {
     const double r = end_width_ratio(i);
@@ -422,7 +412,7 @@ std::vector<Junction> detect_junctions(std::span<const stream::RunRecord> runs,
   };
   const double thr_w = settings.threshold - settings.background_level;
   const auto end_contrast = [&](size_t i) {
-    return (end_weight(i) - thr_w) / std::max(0.5, settings.noise_sigma_grey);
+    return (end_median(i, &Interval::weight) - thr_w) / std::max(0.5, settings.noise_sigma_grey);
   };
   const auto enough_empty = [&](size_t i) {
     return empty_beyond(i) >= std::max(opt.min_empty_beyond_m, 3.0 * line[i].foot_s);
