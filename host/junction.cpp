@@ -180,8 +180,7 @@ std::vector<Junction> detect_junctions(std::span<const stream::RunRecord> runs,
            p.y() <= cfg.image_height - 1 - margin_px;
   };
   // The view of the band: the s range over which the centre line is inside
-  // the image and the tape at least min_tape_width_px wide, contiguous from
-  // its near end (stepped every 1 cm).
+  // the image and the tape at least min_tape_width_px wide.
   const auto in_view = [&](double s) {
     Eigen::Vector2d r1, r2;
     if (!in_image(s, 0.0) || !tf.to_ray(s, -0.5 * tape_w, r1) || !tf.to_ray(s, 0.5 * tape_w, r2)) {
@@ -196,8 +195,8 @@ std::vector<Junction> detect_junctions(std::span<const stream::RunRecord> runs,
         side * (0.5 * tape_w + (1.0 + opt.band_margin_widths) * tape_w + opt.min_branch_length_m);
     return in_image(s - tape_w, l) && in_image(s + tape_w, l);
   };
-  // Visibility along the line is one interval: stepped every 0.1 m, its ends
-  // bisected to 1 mm.
+  // Visibility along the line is one interval: stepped every 0.1 m from 10 c
+  // behind the foot point, its ends bisected to 1 mm.
   const double step = 0.1, s_far = 40.0 * c;
   double view_lo = 0.0, view_hi = 0.0;
   bool seen = false;
