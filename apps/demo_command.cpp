@@ -21,6 +21,7 @@
 #include "golden/scene.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/flow_height.hpp"
+#include "host/junction.hpp"
 #include "host/navigator.hpp"
 
 namespace ceilnav::app {
@@ -74,7 +75,7 @@ int run_demo(const DemoOptions& o) {
     const auto p0 = std::chrono::steady_clock::now();
     host::FrameOutcome r = nav.process(frame);
     pipeline_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
-    write_results_row(csv.stream(), name, r);
+    write_results_row(csv.stream(), name, r, host::detect_junctions(r, nav.camera_model(), camera));
     const std::string status = frame_status(r);
     ++statuses[status];
 

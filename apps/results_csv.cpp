@@ -1,6 +1,7 @@
 #include "apps/results_csv.hpp"
 
 #include <limits>
+#include <numbers>
 
 #include "common/csv.hpp"
 
@@ -32,6 +33,10 @@ void write_results_header(std::ostream& out) {
                       "width_consistent",
                       "ends_at_border",
                       "contrast_sigma",
+                      "junction",
+                      "junction_side",
+                      "junction_distance_m",
+                      "junction_angle_deg",
                       "flow_ceiling_m",
                       "flow_ceiling_se_m",
                       "flow_range_m",
@@ -41,7 +46,8 @@ void write_results_header(std::ostream& out) {
 }
 
 void write_results_row(std::ostream& out, const std::string& frame_name,
-                       const host::FrameOutcome& o, const OdometryColumns& odo) {
+                       const host::FrameOutcome& o, std::span<const host::Junction> junctions,
+                       const OdometryColumns& odo) {
   constexpr int kDigits = 10;  // significant digits of every real column
   const std::string status = frame_status(o);
   const bool ok = status == "ok";
@@ -84,6 +90,23 @@ void write_results_row(std::ostream& out, const std::string& frame_name,
     w.empty();
   }
   w.general(value(fitted, ev.contrast_sigma), 4);
+  // The nearest junction, only for an ok pose.
+  if (ok) {
+    const host::Junction none;
+    const host::Junction& j = junctions.empty() ? none : junctions.front();
+    const bool branch =
+        j.kind == host::JunctionKind::t_branch || j.kind == host::JunctionKind::l_turn;
+    w.text(std::string(host::to_string(j.kind)));
+    if (branch) {
+      w.text(std::string(host::to_string(j.side)));
+    } else {
+      w.empty();
+    }
+    w.general(value(j.kind != host::JunctionKind::none, j.distance_m), 4);
+    w.general(value(branch, j.branch_angle_rad * 180.0 / std::numbers::pi), 4);
+  } else {
+    w.empty().empty().empty().empty();
+  }
   const auto opt = [&](const std::optional<double>& v) {
     w.general(value(v.has_value(), v.value_or(0.0)), kDigits);
   };

@@ -21,6 +21,7 @@
 #include "drivers/device.hpp"
 #include "host/camera_config_io.hpp"
 #include "host/frame_io.hpp"
+#include "host/junction.hpp"
 #include "host/navigator.hpp"
 
 namespace ceilnav::app {
@@ -74,7 +75,8 @@ int run_frames(const RunOptions& o) {
     const host::FrameOutcome r = nav.process(grey);
     OdometryColumns odo;
     if (heights) odo = heights->add(odometry->pose_at(times[i]), grey, r, nav.camera_model());
-    write_results_row(csv.stream(), frames[i].filename().string(), r, odo);
+    write_results_row(csv.stream(), frames[i].filename().string(), r,
+                      host::detect_junctions(r, nav.camera_model(), camera), odo);
     if (overlays && overlay_due(o.overlay_every, i)) {
       write_png(*overlays, overlay_file_name(frames[i].filename().string()),
                 draw_overlay(grey, r, nav.camera_model()));

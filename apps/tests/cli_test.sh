@@ -54,7 +54,7 @@ else
   bad "run exit 0" "$(cat "$work/run.err")"
 fi
 header=$(head -1 "$out" 2>/dev/null)
-for col in frame status yaw_rad offset_m pitch_rad vp_u vp_v; do
+for col in frame status yaw_rad offset_m pitch_rad vp_u vp_v junction junction_side junction_distance_m; do
   if tr ',' '\n' <<<"$header" | grep -qx "$col"; then ok "column $col"; else bad "column $col"; fi
 done
 rows=$(($(wc -l <"$out") - 1))

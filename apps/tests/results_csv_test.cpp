@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -22,11 +23,12 @@ std::vector<std::string> split(const std::string& line) {
 }
 
 // Header and row as name -> field.
-std::vector<std::pair<std::string, std::string>> table(const host::FrameOutcome& o,
-                                                       const OdometryColumns& odo = {}) {
+std::vector<std::pair<std::string, std::string>> table(
+    const host::FrameOutcome& o, const std::vector<host::Junction>& junctions = {},
+    const OdometryColumns& odo = {}) {
   std::ostringstream out;
   write_results_header(out);
-  write_results_row(out, "f.png", o, odo);
+  write_results_row(out, "f.png", o, junctions, odo);
   std::istringstream in(out.str());
   std::string h, r;
   std::getline(in, h);
@@ -109,7 +111,7 @@ TEST(ResultsCsv, OdometryColumnsEmptyUnlessMeasured) {
   odo.flow_frames = 12;
   odo.width_ceiling_m = 2.299;
   odo.odometry_scale = 1.01;
-  const auto t = table(outcome(host::Status::ok, std::nullopt), odo);
+  const auto t = table(outcome(host::Status::ok, std::nullopt), {}, odo);
   EXPECT_EQ(field(t, "flow_ceiling_m"), "2.3125");
   EXPECT_EQ(field(t, "flow_ceiling_se_m"), "0.004");
   EXPECT_EQ(field(t, "flow_range_m"), "4.5");
@@ -119,10 +121,51 @@ TEST(ResultsCsv, OdometryColumnsEmptyUnlessMeasured) {
   // Only the width measured (no tape end tracked): the flow columns stay empty.
   OdometryColumns width_only;
   width_only.width_ceiling_m = 2.3;
-  const auto w = table(outcome(host::Status::ok, std::nullopt), width_only);
+  const auto w = table(outcome(host::Status::ok, std::nullopt), {}, width_only);
   EXPECT_EQ(field(w, "flow_ceiling_m"), "");
   EXPECT_EQ(field(w, "flow_frames"), "");
   EXPECT_EQ(field(w, "width_ceiling_m"), "2.3");
+}
+
+host::Junction junction(host::JunctionKind kind, host::JunctionSide side, double distance_m) {
+  host::Junction j;
+  j.kind = kind;
+  j.side = side;
+  j.distance_m = distance_m;
+  j.branch_angle_rad = kind == host::JunctionKind::tape_end ? 0.0 : std::numbers::pi / 2;
+  return j;
+}
+
+// The nearest junction (the first) for an ok pose; none when there is none;
+// empty columns when the pose is not ok.
+TEST(ResultsCsv, JunctionColumnsOnlyForAnOkPose) {
+  const std::vector<host::Junction> js = {
+      junction(host::JunctionKind::t_branch, host::JunctionSide::right, 2.5),
+      junction(host::JunctionKind::tape_end, host::JunctionSide::none, 4.0)};
+  const auto t = table(outcome(host::Status::ok, std::nullopt), js);
+  EXPECT_EQ(field(t, "junction"), "t_branch");
+  EXPECT_EQ(field(t, "junction_side"), "right");
+  EXPECT_EQ(field(t, "junction_distance_m"), "2.5");
+  EXPECT_EQ(field(t, "junction_angle_deg"), "90");
+  const auto l = table(outcome(host::Status::ok, std::nullopt),
+                       {junction(host::JunctionKind::l_turn, host::JunctionSide::both, -0.25)});
+  EXPECT_EQ(field(l, "junction"), "l_turn");
+  EXPECT_EQ(field(l, "junction_side"), "both");
+  EXPECT_EQ(field(l, "junction_distance_m"), "-0.25");
+  const auto e = table(outcome(host::Status::ok, std::nullopt),
+                       {junction(host::JunctionKind::tape_end, host::JunctionSide::none, 1.75)});
+  EXPECT_EQ(field(e, "junction"), "tape_end");
+  EXPECT_EQ(field(e, "junction_side"), "");
+  EXPECT_EQ(field(e, "junction_distance_m"), "1.75");
+  EXPECT_EQ(field(e, "junction_angle_deg"), "");
+  const auto none = table(outcome(host::Status::ok, std::nullopt));
+  EXPECT_EQ(field(none, "junction"), "none");
+  EXPECT_EQ(field(none, "junction_side"), "");
+  EXPECT_EQ(field(none, "junction_distance_m"), "");
+  const auto bad = table(outcome(host::Status::inconsistent, std::nullopt), js);
+  for (const char* c : {"junction", "junction_side", "junction_distance_m", "junction_angle_deg"}) {
+    EXPECT_EQ(field(bad, c), "") << c;
+  }
 }
 
 }  // namespace
