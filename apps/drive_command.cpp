@@ -86,6 +86,9 @@ nlohmann::json summary_json(const sim::DriveSummary& s) {
   j["tape_unassociated"] = s.counters.tape.unassociated;
   j["tape_too_old"] = s.counters.tape.too_old;
   j["tape_not_ok"] = s.counters.tape.not_ok;
+  j["landmark_accepted"] = s.counters.landmark.accepted;
+  j["landmark_rejected_gate"] = s.counters.landmark.rejected_gate;
+  j["landmark_unassociated"] = s.counters.landmark.unassociated;
   j["wall_time_s"] = s.wall_time_s;
   j["realtime_factor"] = s.realtime_factor;
   // The goals (docs/navigation.md).
@@ -150,7 +153,10 @@ void write_plot(const fs::path& png, const sim::Drive& d) {
 int run_drive(const DriveOptions& o) {
   if (o.monte_carlo < 1) throw std::runtime_error("drive: --monte-carlo must be at least 1");
   const sim::Course course =
-      o.course_file.empty() ? sim::default_course() : sim::load_course(o.course_file);
+      !o.course_file.empty() ? sim::load_course(o.course_file)
+      : o.random_course >= 0
+          ? sim::random_course(static_cast<uint64_t>(o.random_course), o.random_length_m)
+          : sim::default_course();
   OutputFolder out(o.out_dir);  // every file appears together, or none
   std::vector<sim::DriveSummary> runs;
   std::vector<std::vector<double>> nees;  // per run, per tick
@@ -168,6 +174,7 @@ int run_drive(const DriveOptions& o) {
     for (const auto& r : drive.rows()) n.push_back(r.pose_nees);
     nees.push_back(std::move(n));
     if (i == 0) {
+      sim::save_course(course, out.path("course.yaml").string());
       sim::write_trajectory_csv(out.path("trajectory.csv").string(), drive.rows());
       if (o.plot) write_plot(out.path("drive.png"), drive);
     }

@@ -286,6 +286,16 @@ CLI::App* add_drive_command(CLI::App& app, DriveOptions& drive) {
   cmd->add_option("--course", drive.course_file,
                   "Course file (YAML or JSON, docs/navigation.md); default: the built-in course")
       ->check(CLI::ExistingFile);
+  auto* random_opt =
+      cmd->add_option("--random-course", drive.random_course,
+                      "Instead of the built-in course, a random one (sim::random_course) of this "
+                      "seed; course.yaml in the output folder keeps it")
+          ->check(CLI::NonNegativeNumber)
+          ->excludes("--course");
+  cmd->add_option("--random-length", drive.random_length_m, "Length of the random course, m")
+      ->check(CLI::Range(10.0, 10000.0))
+      ->needs(random_opt)
+      ->capture_default_str();
   cmd->add_option("--out", drive.out_dir, "Output folder (created)")->capture_default_str();
   cmd->add_option("--backend", drive.backend,
                   "fast, model (C++ cycle-level device) or rtl (Verilated RTL; slow: use a short "

@@ -7,9 +7,11 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <string_view>
 
 #include <fmt/format.h>
 
+#include "host/junction.hpp"
 #include "nav/chi_square.hpp"
 #include "stream/ceilnav_top.hpp"
 
@@ -60,6 +62,24 @@ Drive::Drive(const DriveConfig& config)
                 t.width_m});
     }
   }
+  // Landmarks: both ends of every gap, the ends of every tape that do not
+  // lie on another tape (those are junctions), and every junction.
+  const std::vector<Junction> junctions_of_course = junctions(config_.course);
+  for (const Junction& j : junctions_of_course)
+    map_.add_landmark({nav::LandmarkMeasurement::Kind::junction, {j.position.x_m, j.position.y_m}});
+  for (const TapePolyline& t : config_.course.tapes) {
+    for (const auto& [g0, g1] : t.gaps_m) {
+      map_.add_landmark({nav::LandmarkMeasurement::Kind::tape_end, point_at_arc(t, g0)});
+      map_.add_landmark({nav::LandmarkMeasurement::Kind::tape_end, point_at_arc(t, g1)});
+    }
+    for (const Point2& e : {t.points.front(), t.points.back()}) {
+      bool on_junction = false;
+      for (const Junction& j : junctions_of_course)
+        on_junction |= std::hypot(j.position.x_m - e.x_m, j.position.y_m - e.y_m) <= t.width_m;
+      if (!on_junction)
+        map_.add_landmark({nav::LandmarkMeasurement::Kind::tape_end, {e.x_m, e.y_m}});
+    }
+  }
   nav::EkfOptions eo = config_.ekf;
   eo.mount = config_.believed_mount;
   eo.odometry.wheel_base_m = config_.robot.wheel_base_m;
@@ -108,6 +128,7 @@ void Drive::expose_frame(int index, double t0) {
   time.exposure_s = t0 + 0.5 * config_.exposure_s;
   time.available_s = t0 + config_.exposure_s + frame_latency_s(out);
   nav::TapeMeasurement m = host::tape_measurement(pose, time, config_.tape_noise);
+  double height_factor = 1.0;
   if (m.status == nav::MeasurementStatus::ok) {
     // The host measured the offset at the configured ceiling height; the
     // course's height where the camera looks scales it (offset is
@@ -119,12 +140,39 @@ void Drive::expose_frame(int index, double t0) {
     const double h = config_.course.ceiling_height_at(cam.x_m + reach * std::cos(cam.yaw_rad),
                                                       cam.y_m + reach * std::sin(cam.yaw_rad));
     const double f = (h - config_.camera.camera_height_m) / above_cfg;
+    height_factor = f;
     m.offset_m *= f;
     m.covariance(1, 1) *= f * f;
     m.covariance(0, 1) *= f;
     m.covariance(1, 0) *= f;
   }
-  pending_.push_back({m, index});
+  Pending tape;
+  tape.m = m;
+  tape.frame = index;
+  pending_.push_back(tape);
+  if (!config_.landmarks || m.status != nav::MeasurementStatus::ok ||
+      pose.method != std::string_view("runs_centre_line"))
+    return;
+  // The junctions and tape ends of the followed tape in view: distances along
+  // it, scaled like the offset by the ceiling's height.
+  for (const host::Junction& j :
+       host::detect_junctions(out, navigator_->camera_model(), config_.camera)) {
+    if (j.kind == host::JunctionKind::none) continue;
+    Pending l;
+    l.is_landmark = true;
+    l.frame = index;
+    l.landmark.time = time;
+    l.landmark.kind = j.kind == host::JunctionKind::tape_end
+                          ? nav::LandmarkMeasurement::Kind::tape_end
+                          : nav::LandmarkMeasurement::Kind::junction;
+    l.landmark.along_m = j.distance_m * height_factor;
+    const double sigma = (l.landmark.kind == nav::LandmarkMeasurement::Kind::tape_end
+                              ? config_.landmark_noise.tape_end_sigma_m
+                              : config_.landmark_noise.junction_sigma_m) +
+                         config_.landmark_noise.relative_sigma * std::abs(l.landmark.along_m);
+    l.landmark.variance_m2 = sigma * sigma;
+    pending_.push_back(l);
+  }
 }
 
 bool Drive::step() {
@@ -152,17 +200,18 @@ bool Drive::step() {
       ++next_frame_;
     }
   }
-  std::sort(pending_.begin(), pending_.end(), [](const Pending& a, const Pending& b) {
-    return a.m.time.available_s < b.m.time.available_s;
-  });
+  std::sort(pending_.begin(), pending_.end(),
+            [](const Pending& a, const Pending& b) { return a.available_s() < b.available_s(); });
   std::size_t used = 0;
-  for (; used < pending_.size() && pending_[used].m.time.available_s <= t_ + 1e-9; ++used) {
-    const nav::Outcome o = ekf_->update(pending_[used].m);
+  for (; used < pending_.size() && pending_[used].available_s() <= t_ + 1e-9; ++used) {
+    const Pending& pm = pending_[used];
+    const nav::Outcome o = pm.is_landmark ? ekf_->update(pm.landmark) : ekf_->update(pm.m);
+    if (pm.is_landmark && o != nav::Outcome::accepted) continue;  // the tape's outcome is shown
     row.frame = pending_[used].frame;
     switch (o) {
       case nav::Outcome::accepted:
-        row.outcome = "accepted";
-        blind_m_ = 0.0;
+        row.outcome = pm.is_landmark ? "accepted_landmark" : "accepted";
+        if (!pm.is_landmark) blind_m_ = 0.0;
         break;
       case nav::Outcome::pending:
         row.outcome = "pending";

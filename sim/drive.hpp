@@ -39,6 +39,13 @@ struct DriveConfig {
   nav::EkfOptions ekf;              // its mount is set from believed_mount
   nav::FollowerOptions follower;
   host::TapeNoiseModel tape_noise;
+  // Landmark distances (host::detect_junctions): sigma = the kind's + relative
+  // x distance. docs/results.md, "Junctions": tape ends 5-8 mm RMS (15.6 max),
+  // junctions 0.2-1.4 mm RMS (7.2 max); the relative part for the ceiling height.
+  struct LandmarkNoise {
+    double tape_end_sigma_m = 0.008, junction_sigma_m = 0.004, relative_sigma = 0.002;
+  } landmark_noise;
+  bool landmarks = true;  // false: tape measurements only
   host::NavigatorOptions navigator;
   DriveRenderParams render;
   // The device's backend (drivers::DeviceOptions; the rtl backend needs its
@@ -117,7 +124,12 @@ class Drive {
  private:
   struct Pending {
     nav::TapeMeasurement m;
+    bool is_landmark = false;
+    nav::LandmarkMeasurement landmark;
     int frame = 0;
+    double available_s() const {
+      return is_landmark ? landmark.time.available_s : m.time.available_s;
+    }
   };
   void expose_frame(int index, double t0);
   double frame_latency_s(const host::FrameOutcome& o) const;

@@ -85,6 +85,11 @@ RoutePlan plan_route(const Course& course) {
         course.name, course.start.x_m, course.start.y_m, course.start.yaw_rad / kDeg));
   }
   RoutePlan plan;
+  // A waypoint where the path already is (a junction at a bend) is one waypoint.
+  auto push = [&plan](const Eigen::Vector2d& w) {
+    if (plan.waypoints.empty() || (plan.waypoints.back() - w).norm() > 1e-6)
+      plan.waypoints.push_back(w);
+  };
   Eigen::Vector2d p = cur->a + (start - cur->a).dot(dir) * dir;  // foot on the line
   plan.waypoints.push_back(p);
   std::size_t next_turn = 0;
@@ -114,17 +119,17 @@ RoutePlan plan_route(const Course& course) {
     const bool only_straight = options.size() == 1 && options[0].dot(dir) > std::cos(5.0 * kDeg);
     Eigen::Vector2d next_dir;
     if (options.empty()) {
-      plan.waypoints.push_back(stop);  // the tape ends
+      push(stop);  // the tape ends
       break;
     }
     if (only_straight) {
       next_dir = options[0];
     } else if (options.size() == 1 && junction == nullptr) {
       next_dir = options[0];  // a bend that is no junction: follow it, no turn taken
-      plan.waypoints.push_back(stop);
+      push(stop);
     } else {
       if (next_turn >= course.route.size()) {
-        plan.waypoints.push_back(stop);  // the route is used up: stop at this junction
+        push(stop);  // the route is used up: stop at this junction
         break;
       }
       const Turn turn = course.route[next_turn];
@@ -152,9 +157,9 @@ RoutePlan plan_route(const Course& course) {
       rj.turn = turn;
       rj.heading_in_rad = heading_of(dir);
       rj.heading_out_rad = heading_of(next_dir);
-      rj.waypoint = static_cast<int>(plan.waypoints.size());
+      push(stop);
+      rj.waypoint = static_cast<int>(plan.waypoints.size()) - 1;
       plan.junctions.push_back(rj);
-      plan.waypoints.push_back(stop);
       ++next_turn;
     }
     // The segment that leaves `stop` along next_dir.
