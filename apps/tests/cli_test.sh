@@ -585,5 +585,42 @@ expect_error "fps with frame times" "excludes" "$ob" -- $(run_odo --odometry "$d
 expect_error "fps zero" "--fps" "$ob" -- $(run_odo --odometry "$drive/odometry.csv" --fps 0)
 expect_error "render-drive bad path" "--path" "$work/odobad/d" -- render-drive --out "$work/odobad/d" --path zigzag
 
+# drive: a short course file (a gap, an L-turn) closed loop; its outputs;
+# bad course files and arguments leave no output folder.
+mkdir -p "$work/cl"
+cat >"$work/cl/short.yaml" <<'YAML'
+format: ceilnav_course
+version: 1
+name: short
+ceiling: {height_m: 2.5}
+tapes:
+  - {name: A, width_m: 0.05, points: [[-1, 0], [4, 0], [4, 3]], gaps: [[2, 2.6]]}
+start: {x_m: 0, y_m: 0, yaw_deg: 0}
+route: [left]
+YAML
+dd=$work/cl/out
+if $CEILNAV drive --course "$work/cl/short.yaml" --out "$dd" --quiet >"$work/cl/log.txt" 2>&1 &&
+  [ -f "$dd/trajectory.csv" ] && [ -f "$dd/summary.json" ] && [ -f "$dd/drive.png" ] &&
+  [ -f "$dd/course.yaml" ] && grep -q "\"goals_met\"" "$dd/summary.json" &&
+  grep -q '"junctions_taken": 1' "$dd/summary.json" && grep -q '"gaps_crossed": 1' "$dd/summary.json" &&
+  head -1 "$dd/trajectory.csv" | grep -q '^t_s,x_m,y_m,yaw_rad,est_x_m'; then
+  ok "drive short course"
+else
+  bad "drive short course" "$(tail -3 "$work/cl/log.txt")"
+fi
+# Dead reckoning only: the robot is stopped as lost before the end (2 m blind).
+if $CEILNAV drive --course "$work/cl/short.yaml" --out "$work/cl/blind" --quiet --no-vision --no-plot >/dev/null 2>&1 &&
+  grep -q '"lost": true' "$work/cl/blind/summary.json"; then
+  ok "drive without vision stops lost"
+else
+  bad "drive without vision stops lost"
+fi
+sed 's/route: \[left\]/route: [right]/' "$work/cl/short.yaml" >"$work/cl/wrong_turn.yaml"
+expect_error "drive impossible turn" "turn 1 \(right\) of the route does not exist" "$work/cl/bad1" -- drive --course "$work/cl/wrong_turn.yaml" --out "$work/cl/bad1" --quiet
+sed 's/width_m: 0.05/width_m: -1/' "$work/cl/short.yaml" >"$work/cl/bad_width.yaml"
+expect_error "drive bad course file" "width" "$work/cl/bad2" -- drive --course "$work/cl/bad_width.yaml" --out "$work/cl/bad2" --quiet
+expect_error "drive missing course" "course" "$work/cl/bad3" -- drive --course "$work/cl/none.yaml" --out "$work/cl/bad3"
+expect_error "drive both courses" "excludes" "$work/cl/bad4" -- drive --course "$work/cl/short.yaml" --random-course 3 --out "$work/cl/bad4"
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
