@@ -15,6 +15,7 @@
 #include "host/camera_model.hpp"
 #include "host/status.hpp"
 #include "host/tape_pose.hpp"
+#include "nav/odometry_step.hpp"
 
 namespace ceilnav::host {
 
@@ -100,10 +101,8 @@ WidthHeight ceiling_height_from_tape_width(const cv::Mat& grey,
                                            const WidthHeightOptions& opt = {});
 
 // The robot's planar pose from odometry (x forward, y left, yaw CCW), with the
-// camera at its origin and looking along its heading.
-struct PlanarPose {
-  double x_m = 0.0, y_m = 0.0, yaw_rad = 0.0;
-};
+// camera at its origin and looking along its heading: the navigation layer's.
+using PlanarPose = nav::Pose2;
 
 // One ceiling feature seen over several frames while the robot moves: the
 // least-squares ceiling height from the whole track. Frame k sees the feature
