@@ -37,21 +37,25 @@ int composite_station(const host::CameraConfig& camera, const Course& course,
   const double half_w = std::abs(gp::block_outer_x_m(g)) + g.plate_margin_m;
   const double half_h = 0.5 * g.bar_height_m + g.plate_margin_m;
   // Quick rejection: the panel's corners all in front and their bounding box
-  // off the image.
+  // off the image, or all behind the camera (z <= 0: the panel is convex, so
+  // no ray in front meets it).
   bool all_in_front = true;
+  int in_front = 0;
   double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
   for (int c = 0; c < 4; ++c) {
     const Eigen::Vector3d local((c & 1) ? half_w : -half_w, (c & 2) ? half_h : -half_h, 0.0);
     const Eigen::Vector3d p = pv.rotation * (local - pv.centre);
     if (!(p.z() > 0.0)) {
       all_in_front = false;
-      break;
+      continue;
     }
+    ++in_front;
     u0 = std::min(u0, camera.fx() * p.x() / p.z() + camera.cx());
     u1 = std::max(u1, camera.fx() * p.x() / p.z() + camera.cx());
     v0 = std::min(v0, camera.fy() * p.y() / p.z() + camera.cy());
     v1 = std::max(v1, camera.fy() * p.y() / p.z() + camera.cy());
   }
+  if (in_front == 0) return 0;
   // A margin for the lens distortion: the pinhole box may be off by some pixels.
   const double margin = 0.25 * std::max(camera.image_width, camera.image_height);
   if (all_in_front && (u1 < -margin || u0 > camera.image_width + margin || v1 < -margin ||
