@@ -58,6 +58,9 @@ sim::DriveConfig drive_config(const DriveOptions& o, const sim::Course& course, 
   // course: -18 % after 40 m, then a pivot 20 deg short): it is held at its
   // calibrated value (docs/navigation.md, "Closed loop").
   c.ekf.odometry.yaw_scale_sigma = 1e-6;
+  // The filter's slip is the robot's (its odometry calibration): variance per
+  // metre of wheel travel = slip sigma^2.
+  c.ekf.odometry.wheel_var_per_m = c.robot.slip_sigma_sqrt_m * c.robot.slip_sigma_sqrt_m;
   return c;
 }
 
