@@ -60,10 +60,62 @@ bool undistort_newton(const host::CameraConfig& camera, double xd, double yd, do
 // d(x, y)/d(u, v), so that a sub-sample at offset (a, b) px from the centre has
 // the ray (x, y) + J (a, b) (the local affine approximation).
 
+// The rays of a kTile x kTile block of pixels: the box (in normalised
+// coordinates) of the corner rays x + J (+-1/2, +-1/2) of its valid pixels,
+// each computed exactly as radiance_of computes it, so every footprint corner
+// radiance_of evaluates for the block lies in the box.
+constexpr int kTile = 8;
+struct RayTile {
+  double x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0;
+  bool any_valid = false;
+};
+
 struct RayTable {
   std::vector<PixelRay> rays;  // row-major
   double affine_error_px = 0.0;
+  int tiles_x = 0, tiles_y = 0;
+  std::vector<RayTile> tiles;  // row-major, tiles_x x tiles_y
 };
+
+// A footprint corner ray of a pixel: offset (a, b) = (+-1/2, +-1/2) px from
+// its centre (c = 0..3: a from bit 0, b from bit 1).
+double corner_offset_a(std::size_t c) {
+  return static_cast<double>(c & 1U) - 0.5;
+}
+double corner_offset_b(std::size_t c) {
+  return static_cast<double>(c >> 1U) - 0.5;
+}
+
+void build_tiles(RayTable& table, int w, int h) {
+  table.tiles_x = (w + kTile - 1) / kTile;
+  table.tiles_y = (h + kTile - 1) / kTile;
+  table.tiles.assign(
+      static_cast<std::size_t>(table.tiles_x) * static_cast<std::size_t>(table.tiles_y), {});
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      const PixelRay& ray = table.rays[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) +
+                                       static_cast<std::size_t>(i)];
+      if (!ray.valid) continue;
+      RayTile& tile =
+          table
+              .tiles[static_cast<std::size_t>(j / kTile) * static_cast<std::size_t>(table.tiles_x) +
+                     static_cast<std::size_t>(i / kTile)];
+      for (std::size_t c = 0; c < 4; ++c) {
+        const double a = corner_offset_a(c), b = corner_offset_b(c);
+        const double x = ray.x + ray.j00 * a + ray.j01 * b;
+        const double y = ray.y + ray.j10 * a + ray.j11 * b;
+        if (!tile.any_valid) {
+          tile = {x, x, y, y, true};
+          continue;
+        }
+        tile.x0 = std::min(tile.x0, x);
+        tile.x1 = std::max(tile.x1, x);
+        tile.y0 = std::min(tile.y0, y);
+        tile.y1 = std::max(tile.y1, y);
+      }
+    }
+  }
+}
 
 struct CameraKey {
   int width, height;
@@ -99,6 +151,7 @@ std::shared_ptr<const RayTable> build_ray_table(const host::CameraConfig& camera
       ray.j11 = inv(1, 1) / fy;
     }
   }
+  build_tiles(*table, w, h);
   if (!distorted) return table;
   // Exact rays through the pixel corners, to measure the affine error where the
   // quadratic remainder is largest.
@@ -249,6 +302,46 @@ struct CeilingGeometry {
   }
 };
 
+// The box on the default ceiling plane that holds the point of every
+// footprint corner radiance_of computes for a tile's pixels (their rays lie in
+// the tile's box of rays, whose image on the ceiling is the convex
+// quadrilateral of its corners' images when every corner rises), widened by a
+// margin far above the rounding of either computation. false when the tile's
+// rays come near the horizon: the tile is then rendered without culling.
+bool tile_footprint(const CeilingGeometry& geo, const RayTile& tile, double& x0, double& x1,
+                    double& y0, double& y1) {
+  const double mx = std::max(std::abs(tile.x0), std::abs(tile.x1));
+  const double my = std::max(std::abs(tile.y0), std::abs(tile.y1));
+  const double rise_scale = std::abs(geo.rz) * mx + std::abs(geo.dz) * my + std::abs(geo.fz);
+  x0 = y0 = std::numeric_limits<double>::infinity();
+  x1 = y1 = -std::numeric_limits<double>::infinity();
+  double min_up = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < 4; ++c) {
+    const double x = (c & 1) ? tile.x1 : tile.x0, y = (c & 2) ? tile.y1 : tile.y0;
+    const double up = x * geo.rz + y * geo.dz + geo.fz;
+    // The rise is linear in the ray: its smallest value over the box is at a
+    // corner, and a well-rising box keeps the division well conditioned.
+    if (!(up >= 1e-3 * rise_scale)) return false;
+    min_up = std::min(min_up, up);
+    const double t = geo.height_m / up;
+    const double px = geo.cx_m + t * (x * geo.rx + y * geo.dx + geo.fx);
+    const double py = geo.cy_m + t * (x * geo.ry + y * geo.dy + geo.fy);
+    x0 = std::min(x0, px);
+    x1 = std::max(x1, px);
+    y0 = std::min(y0, py);
+    y1 = std::max(y1, py);
+  }
+  const double reach = geo.height_m / min_up * (1.0 + mx + my) *
+                       (std::abs(geo.rx) + std::abs(geo.dx) + std::abs(geo.fx) + std::abs(geo.ry) +
+                        std::abs(geo.dy) + std::abs(geo.fy));
+  const double margin = 1e-9 * (std::abs(geo.cx_m) + std::abs(geo.cy_m) + reach);
+  x0 -= margin;
+  x1 += margin;
+  y0 -= margin;
+  y1 += margin;
+  return std::isfinite(x0) && std::isfinite(x1) && std::isfinite(y0) && std::isfinite(y1);
+}
+
 cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
                     const CameraView& view, const RenderParams& params, RenderStats& stats) {
   const int w = camera.image_width, h = camera.image_height;
@@ -270,152 +363,239 @@ cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
   std::vector<int> all_tapes(tapes.size());
   for (std::size_t t = 0; t < tapes.size(); ++t) all_tapes[t] = static_cast<int>(t);
 
-  for (int j = 0; j < h; ++j) {
-    double* out = radiance.ptr<double>(j);
-    for (int i = 0; i < w; ++i) {
-      const std::size_t k =
-          static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i);
-      const PixelRay& ray = table->rays[k];
-      if (!ray.valid || tapes.empty()) {
-        ++stats.background_pixels;
-        continue;
+  // One pixel. `near`: the tapes (ascending) whose bounding box the pixel's
+  // footprint box can meet; the footprint classification skips every other
+  // tape, as its box test would.
+  auto render_pixel = [&](int i, int j, double* out, const std::vector<int>& near) {
+    const std::size_t k =
+        static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i);
+    const PixelRay& ray = table->rays[k];
+    if (!ray.valid || tapes.empty()) {
+      ++stats.background_pixels;
+      return;
+    }
+    // Classify the footprint: the pixel square maps to a parallelogram of
+    // rays (affine approximation) and, when every corner ray rises, to a
+    // convex quadrilateral on the ceiling (a projective image of a convex set
+    // that does not cross the horizon), so its corners decide inside/outside
+    // of each (convex) tape exactly.
+    double inside_reflectance = 0.0, inside_weight = 1.0;  // weight: 1 / k^2
+    const std::vector<int>* mixed = &candidates;
+    candidates.clear();
+    if (params.adaptive_sampling) {
+      std::array<double, 4> qx{}, qy{}, q_inv_r2{};
+      int rising = 0;
+      for (std::size_t c = 0; c < 4; ++c) {
+        const double a = corner_offset_a(c), b = corner_offset_b(c);
+        if (geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, qx[c],
+                    qy[c], q_inv_r2[c])) {
+          ++rising;
+        }
       }
-      // Classify the footprint: the pixel square maps to a parallelogram of
-      // rays (affine approximation) and, when every corner ray rises, to a
-      // convex quadrilateral on the ceiling (a projective image of a convex set
-      // that does not cross the horizon), so its corners decide inside/outside
-      // of each (convex) tape exactly.
-      double inside_reflectance = 0.0, inside_weight = 1.0;  // weight: 1 / k^2
-      const std::vector<int>* mixed = &candidates;
-      candidates.clear();
-      if (params.adaptive_sampling) {
-        std::array<double, 4> qx{}, qy{}, q_inv_r2{};
-        int rising = 0;
-        for (std::size_t c = 0; c < 4; ++c) {
-          const double a = static_cast<double>(c & 1U) - 0.5;
-          const double b = static_cast<double>(c >> 1U) - 0.5;
-          if (geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, qx[c],
-                      qy[c], q_inv_r2[c])) {
-            ++rising;
+      if (rising == 0) {  // the rise is linear in the ray: no point of the footprint rises
+        ++stats.background_pixels;
+        return;
+      }
+      if (rising < 4) {
+        mixed = &all_tapes;  // the footprint straddles the horizon: sample it all
+      } else {
+        const double min_x = std::min({qx[0], qx[1], qx[2], qx[3]});
+        const double max_x = std::max({qx[0], qx[1], qx[2], qx[3]});
+        const double min_y = std::min({qy[0], qy[1], qy[2], qy[3]});
+        const double max_y = std::max({qy[0], qy[1], qy[2], qy[3]});
+        for (const int ti : near) {
+          const auto t = static_cast<std::size_t>(ti);
+          const TapeFrame& tape = tapes[t];
+          // The footprint on this strip's plane: C + k (q - C).
+          std::array<double, 4> scaled_x{}, scaled_y{};
+          const double* sx = qx.data();
+          const double* sy = qy.data();
+          double bx0 = min_x, bx1 = max_x, by0 = min_y, by1 = max_y;
+          if (tape.scaled) {
+            for (std::size_t c = 0; c < 4; ++c) {
+              scaled_x[c] = cam_x + tape.scale * (qx[c] - cam_x);
+              scaled_y[c] = cam_y + tape.scale * (qy[c] - cam_y);
+            }
+            sx = scaled_x.data();
+            sy = scaled_y.data();
+            bx0 = cam_x + tape.scale * (min_x - cam_x);
+            bx1 = cam_x + tape.scale * (max_x - cam_x);
+            by0 = cam_y + tape.scale * (min_y - cam_y);
+            by1 = cam_y + tape.scale * (max_y - cam_y);
+          }
+          if (bx1 < tape.min_x || bx0 > tape.max_x || by1 < tape.min_y || by0 > tape.max_y) {
+            continue;
+          }
+          int s_below = 0, s_above = 0, t_below = 0, t_above = 0;
+          for (std::size_t c = 0; c < 4; ++c) {
+            const double dx = sx[c] - tape.ax, dy = sy[c] - tape.ay;
+            const double s = dx * tape.ex + dy * tape.ey;
+            const double tt = dy * tape.ex - dx * tape.ey;
+            s_below += s < 0.0;
+            s_above += s > tape.length;
+            t_below += tt < -tape.half_width;
+            t_above += tt > tape.half_width;
+          }
+          if (s_below == 4 || s_above == 4 || t_below == 4 || t_above == 4) continue;
+          if (s_below + s_above + t_below + t_above == 0) {
+            if (tape.reflectance > inside_reflectance) {
+              inside_reflectance = tape.reflectance;
+              inside_weight = tape.inv_scale2;
+            }
+          } else {
+            candidates.push_back(ti);
           }
         }
-        if (rising == 0) {  // the rise is linear in the ray: no point of the footprint rises
-          ++stats.background_pixels;
+        // A partly covering tape that is not brighter than one covering the
+        // whole footprint changes nothing.
+        std::erase_if(candidates, [&](int t) {
+          return tapes[static_cast<std::size_t>(t)].reflectance <= inside_reflectance;
+        });
+        if (candidates.empty()) {
+          if (inside_reflectance <= 0.0) {
+            ++stats.background_pixels;
+            return;
+          }
+          // Smooth 1/r^2 over the footprint: 2 x 2 midpoint rule, relative
+          // error ~ (footprint / range)^2 / 96, far below 1e-4.
+          double sum = 0.0;
+          for (int c = 0; c < 4; ++c) {
+            const double a = 0.5 * ((c & 1) - 0.5), b = 0.5 * ((c >> 1) - 0.5);
+            double px = 0.0, py = 0.0, inv_r2 = 0.0;
+            geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, px, py,
+                    inv_r2);
+            sum += inv_r2;
+          }
+          out[i] = params.tape_gain * inside_reflectance * 0.25 * (sum * inside_weight);
+          ++stats.interior_pixels;
+          stats.samples += 4;
+          return;
+        }
+      }
+    } else {
+      mixed = &all_tapes;
+    }
+    // Edge pixel: jittered stratified samples, one per cell of an N x N grid,
+    // the jitter a fixed function of the pixel index.
+    uint64_t state = mix64(kJitterSeed ^ (static_cast<uint64_t>(k) * 0xd1b54a32d192ed03ULL));
+    double sum = 0.0;
+    for (int sy = 0; sy < n; ++sy) {
+      for (int sx = 0; sx < n; ++sx) {
+        state = mix64(state);
+        const double a = (sx + unit_interval(state)) * inv_n - 0.5;
+        state = mix64(state);
+        const double b = (sy + unit_interval(state)) * inv_n - 0.5;
+        double px = 0.0, py = 0.0, inv_r2 = 0.0;
+        if (!geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, px, py,
+                     inv_r2)) {
           continue;
         }
-        if (rising < 4) {
-          mixed = &all_tapes;  // the footprint straddles the horizon: sample it all
-        } else {
-          const double min_x = std::min({qx[0], qx[1], qx[2], qx[3]});
-          const double max_x = std::max({qx[0], qx[1], qx[2], qx[3]});
-          const double min_y = std::min({qy[0], qy[1], qy[2], qy[3]});
-          const double max_y = std::max({qy[0], qy[1], qy[2], qy[3]});
-          for (std::size_t t = 0; t < tapes.size(); ++t) {
-            const TapeFrame& tape = tapes[t];
-            // The footprint on this strip's plane: C + k (q - C).
-            std::array<double, 4> scaled_x{}, scaled_y{};
-            const double* sx = qx.data();
-            const double* sy = qy.data();
-            double bx0 = min_x, bx1 = max_x, by0 = min_y, by1 = max_y;
-            if (tape.scaled) {
-              for (std::size_t c = 0; c < 4; ++c) {
-                scaled_x[c] = cam_x + tape.scale * (qx[c] - cam_x);
-                scaled_y[c] = cam_y + tape.scale * (qy[c] - cam_y);
-              }
-              sx = scaled_x.data();
-              sy = scaled_y.data();
-              bx0 = cam_x + tape.scale * (min_x - cam_x);
-              bx1 = cam_x + tape.scale * (max_x - cam_x);
-              by0 = cam_y + tape.scale * (min_y - cam_y);
-              by1 = cam_y + tape.scale * (max_y - cam_y);
-            }
-            if (bx1 < tape.min_x || bx0 > tape.max_x || by1 < tape.min_y || by0 > tape.max_y) {
-              continue;
-            }
-            int s_below = 0, s_above = 0, t_below = 0, t_above = 0;
-            for (std::size_t c = 0; c < 4; ++c) {
-              const double dx = sx[c] - tape.ax, dy = sy[c] - tape.ay;
-              const double s = dx * tape.ex + dy * tape.ey;
-              const double tt = dy * tape.ex - dx * tape.ey;
-              s_below += s < 0.0;
-              s_above += s > tape.length;
-              t_below += tt < -tape.half_width;
-              t_above += tt > tape.half_width;
-            }
-            if (s_below == 4 || s_above == 4 || t_below == 4 || t_above == 4) continue;
-            if (s_below + s_above + t_below + t_above == 0) {
-              if (tape.reflectance > inside_reflectance) {
-                inside_reflectance = tape.reflectance;
-                inside_weight = tape.inv_scale2;
-              }
-            } else {
-              candidates.push_back(static_cast<int>(t));
-            }
-          }
-          // A partly covering tape that is not brighter than one covering the
-          // whole footprint changes nothing.
-          std::erase_if(candidates, [&](int t) {
-            return tapes[static_cast<std::size_t>(t)].reflectance <= inside_reflectance;
-          });
-          if (candidates.empty()) {
-            if (inside_reflectance <= 0.0) {
-              ++stats.background_pixels;
-              continue;
-            }
-            // Smooth 1/r^2 over the footprint: 2 x 2 midpoint rule, relative
-            // error ~ (footprint / range)^2 / 96, far below 1e-4.
-            double sum = 0.0;
-            for (int c = 0; c < 4; ++c) {
-              const double a = 0.5 * ((c & 1) - 0.5), b = 0.5 * ((c >> 1) - 0.5);
-              double px = 0.0, py = 0.0, inv_r2 = 0.0;
-              geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, px, py,
-                      inv_r2);
-              sum += inv_r2;
-            }
-            out[i] = params.tape_gain * inside_reflectance * 0.25 * (sum * inside_weight);
-            ++stats.interior_pixels;
-            stats.samples += 4;
-            continue;
+        double reflectance = inside_reflectance, weight = inside_weight;
+        for (int t : *mixed) {
+          const TapeFrame& tape = tapes[static_cast<std::size_t>(t)];
+          if (tape.reflectance > reflectance &&
+              (tape.scaled ? tape.contains(cam_x + tape.scale * (px - cam_x),
+                                           cam_y + tape.scale * (py - cam_y))
+                           : tape.contains(px, py))) {
+            reflectance = tape.reflectance;
+            weight = tape.inv_scale2;
           }
         }
-      } else {
-        mixed = &all_tapes;
+        sum += reflectance * inv_r2 * weight;
       }
-      // Edge pixel: jittered stratified samples, one per cell of an N x N grid,
-      // the jitter a fixed function of the pixel index.
-      uint64_t state = mix64(kJitterSeed ^ (static_cast<uint64_t>(k) * 0xd1b54a32d192ed03ULL));
-      double sum = 0.0;
-      for (int sy = 0; sy < n; ++sy) {
-        for (int sx = 0; sx < n; ++sx) {
-          state = mix64(state);
-          const double a = (sx + unit_interval(state)) * inv_n - 0.5;
-          state = mix64(state);
-          const double b = (sy + unit_interval(state)) * inv_n - 0.5;
-          double px = 0.0, py = 0.0, inv_r2 = 0.0;
-          if (!geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, px, py,
-                       inv_r2)) {
+    }
+    out[i] = params.tape_gain * sum * inv_n * inv_n;
+    ++stats.edge_pixels;
+    stats.samples += static_cast<int64_t>(n) * n;
+  };
+
+  // Tile by tile: the tapes whose box the tile's footprint box misses are
+  // skipped by the box test of every one of its pixels (the footprint
+  // corners lie in the tile's box, and the box test is monotone in them), so
+  // they are dropped for the whole tile; a tile that no tape can touch is
+  // background. Near the horizon, and without adaptive sampling, every tape
+  // is kept.
+  std::vector<int> near;
+  near.reserve(tapes.size());
+  for (int ty = 0; ty < table->tiles_y; ++ty) {
+    for (int tx = 0; tx < table->tiles_x; ++tx) {
+      const RayTile& tile =
+          table->tiles[static_cast<std::size_t>(ty) * static_cast<std::size_t>(table->tiles_x) +
+                       static_cast<std::size_t>(tx)];
+      const int i0 = tx * kTile, i1 = std::min(w, i0 + kTile);
+      const int j0 = ty * kTile, j1 = std::min(h, j0 + kTile);
+      const std::vector<int>* tile_tapes = &all_tapes;
+      double x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0;
+      if (params.adaptive_sampling && !tapes.empty() && tile.any_valid &&
+          tile_footprint(geo, tile, x0, x1, y0, y1)) {
+        near.clear();
+        for (std::size_t t = 0; t < tapes.size(); ++t) {
+          const TapeFrame& tape = tapes[t];
+          double bx0 = x0, bx1 = x1, by0 = y0, by1 = y1;
+          if (tape.scaled) {  // as the pixels' box test: monotone in the box
+            bx0 = cam_x + tape.scale * (x0 - cam_x);
+            bx1 = cam_x + tape.scale * (x1 - cam_x);
+            by0 = cam_y + tape.scale * (y0 - cam_y);
+            by1 = cam_y + tape.scale * (y1 - cam_y);
+          }
+          if (bx1 < tape.min_x || bx0 > tape.max_x || by1 < tape.min_y || by0 > tape.max_y) {
             continue;
           }
-          double reflectance = inside_reflectance, weight = inside_weight;
-          for (int t : *mixed) {
-            const TapeFrame& tape = tapes[static_cast<std::size_t>(t)];
-            if (tape.reflectance > reflectance &&
-                (tape.scaled ? tape.contains(cam_x + tape.scale * (px - cam_x),
-                                             cam_y + tape.scale * (py - cam_y))
-                             : tape.contains(px, py))) {
-              reflectance = tape.reflectance;
-              weight = tape.inv_scale2;
-            }
-          }
-          sum += reflectance * inv_r2 * weight;
+          near.push_back(static_cast<int>(t));
         }
+        if (near.empty()) {
+          stats.background_pixels += static_cast<int64_t>(i1 - i0) * (j1 - j0);
+          continue;
+        }
+        tile_tapes = &near;
       }
-      out[i] = params.tape_gain * sum * inv_n * inv_n;
-      ++stats.edge_pixels;
-      stats.samples += static_cast<int64_t>(n) * n;
+      for (int j = j0; j < j1; ++j) {
+        double* out = radiance.ptr<double>(j);
+        for (int i = i0; i < i1; ++i) render_pixel(i, j, out, *tile_tapes);
+      }
     }
   }
   return radiance;
+}
+
+// The noise finish_render adds, row-major: sigma * sqrt(-2 ln u1) *
+// cos(2 pi u2) (Box-Muller on two counter-based uniforms, u1 in (0, 1]), a
+// fixed function of (seed, sigma, pixel index). Its log and cos are most of a
+// small frame's rendering time and a drive renders every frame with the same
+// seed, so the last few fields are kept; a kept field holds exactly the
+// values that computing it again would give.
+struct NoiseKey {
+  uint64_t seed;
+  double sigma;
+  int rows, cols;
+  bool operator==(const NoiseKey&) const = default;
+};
+
+std::shared_ptr<const std::vector<double>> noise_field(uint64_t noise_seed, double sigma, int rows,
+                                                       int cols) {
+  static std::mutex mutex;
+  static std::vector<std::pair<NoiseKey, std::shared_ptr<const std::vector<double>>>> cache;
+  const NoiseKey key{noise_seed, sigma, rows, cols};
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (const auto& [cached_key, field] : cache) {
+      if (cached_key == key) return field;
+    }
+  }
+  auto field = std::make_shared<std::vector<double>>(static_cast<std::size_t>(rows) *
+                                                     static_cast<std::size_t>(cols));
+  const uint64_t seed = mix64(noise_seed ^ 0xa54ff53a5f1d36f1ULL);
+  for (std::size_t k = 0; k < field->size(); ++k) {
+    const uint64_t index = static_cast<uint64_t>(k);
+    const double u1 = 1.0 - unit_interval(mix64(seed ^ (2 * index)));
+    const double u2 = unit_interval(mix64(seed ^ (2 * index + 1)));
+    (*field)[k] = sigma * std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+  }
+  const std::lock_guard<std::mutex> lock(mutex);
+  constexpr std::size_t kCacheEntries = 4;
+  if (cache.size() >= kCacheEntries) cache.erase(cache.begin());
+  cache.emplace_back(key, field);
+  return field;
 }
 
 }  // namespace
@@ -506,18 +686,12 @@ void finish_render(cv::Mat& image, const RenderParams& params) {
                      params.blur_sigma_px, cv::BORDER_REFLECT_101);
   }
   if (params.noise_sigma_grey > 0.0) {
-    const uint64_t seed = mix64(params.noise_seed ^ 0xa54ff53a5f1d36f1ULL);
+    const std::shared_ptr<const std::vector<double>> noise =
+        noise_field(params.noise_seed, params.noise_sigma_grey, image.rows, image.cols);
+    const double* n = noise->data();
     for (int j = 0; j < image.rows; ++j) {
       double* row = image.ptr<double>(j);
-      for (int i = 0; i < image.cols; ++i) {
-        const uint64_t k =
-            static_cast<uint64_t>(j) * static_cast<uint64_t>(image.cols) + static_cast<uint64_t>(i);
-        // Box-Muller on two counter-based uniforms; u1 in (0, 1].
-        const double u1 = 1.0 - unit_interval(mix64(seed ^ (2 * k)));
-        const double u2 = unit_interval(mix64(seed ^ (2 * k + 1)));
-        row[i] += params.noise_sigma_grey * std::sqrt(-2.0 * std::log(u1)) *
-                  std::cos(2.0 * std::numbers::pi * u2);
-      }
+      for (int i = 0; i < image.cols; ++i) row[i] += *n++;
     }
   }
 }
