@@ -238,6 +238,31 @@ double unit_interval(uint64_t bits) {  // [0, 1)
 
 constexpr uint64_t kJitterSeed = 0x6a09e667f3bcc909ULL;  // fixed: frames are reproducible
 
+// The jittered-stratified offsets of L pixels (jittered_offsets' definition):
+// a[l n^2 + m], b[l n^2 + m] for pixel l and cell m = sy n + sx. Each pixel's
+// offsets come from a serial chain of splitmix64 steps; stepping L chains
+// side by side lets the processor overlap them.
+template <std::size_t L>
+void jitter_lanes(const std::size_t* pixel_index, int n, double* a, double* b) {
+  const double inv_n = 1.0 / n;
+  const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  std::array<uint64_t, L> state{};
+  for (std::size_t l = 0; l < L; ++l) {
+    state[l] = mix64(kJitterSeed ^ (static_cast<uint64_t>(pixel_index[l]) * 0xd1b54a32d192ed03ULL));
+  }
+  std::size_t m = 0;
+  for (int sy = 0; sy < n; ++sy) {
+    for (int sx = 0; sx < n; ++sx, ++m) {
+      for (std::size_t l = 0; l < L; ++l) {
+        state[l] = mix64(state[l]);
+        a[l * cells + m] = (sx + unit_interval(state[l])) * inv_n - 0.5;
+        state[l] = mix64(state[l]);
+        b[l * cells + m] = (sy + unit_interval(state[l])) * inv_n - 0.5;
+      }
+    }
+  }
+}
+
 // A tape in its own frame: s along the centre line from (x0, y0), t across it.
 struct TapeFrame {
   double ax, ay, ex, ey;
@@ -290,14 +315,24 @@ struct CeilingGeometry {
   double cx_m, cy_m, height_m;                // camera X, Y; ceiling above the camera
   double rx, ry, rz, dx, dy, dz, fx, fy, fz;  // rows of R (world vectors)
 
-  // false when the ray does not rise (never meets the ceiling in front).
-  bool hit(double x, double y, double& px, double& py, double& inv_range2) const {
+  // The ceiling point of the ray and its distance parameter t (the point is
+  // C + t (x, y, 1) in camera axes); false when the ray does not rise (never
+  // meets the ceiling in front).
+  bool point(double x, double y, double& px, double& py, double& t) const {
     const double up = x * rz + y * dz + fz;
     if (!(up > 0.0)) return false;
-    const double t = height_m / up;
+    t = height_m / up;
     px = cx_m + t * (x * rx + y * dx + fx);
     py = cy_m + t * (x * ry + y * dy + fy);
-    inv_range2 = 1.0 / (t * t * (1.0 + x * x + y * y));
+    return true;
+  }
+  static double inv_range2(double t, double x, double y) {
+    return 1.0 / (t * t * (1.0 + x * x + y * y));
+  }
+  bool hit(double x, double y, double& px, double& py, double& inv_r2) const {
+    double t = 0.0;
+    if (!point(x, y, px, py, t)) return false;
+    inv_r2 = inv_range2(t, x, y);
     return true;
   }
 };
@@ -362,6 +397,20 @@ cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
   candidates.reserve(tapes.size());
   std::vector<int> all_tapes(tapes.size());
   for (std::size_t t = 0; t < tapes.size(); ++t) all_tapes[t] = static_cast<int>(t);
+
+  // Edge pixels found by render_pixel, sampled after the classification:
+  // the pixel, its value's place, the brightest tape covering its whole
+  // footprint (reflectance 0: none) and the tapes that may cover a sample
+  // (edge_tapes[first, first + count), or all of them).
+  struct EdgePixel {
+    std::size_t k;
+    double* out;
+    double inside_reflectance, inside_weight;
+    std::size_t first, count;
+    bool all;
+  };
+  std::vector<EdgePixel> edges;
+  std::vector<int> edge_tapes;
 
   // One pixel. `near`: the tapes (ascending) whose bounding box the pixel's
   // footprint box can meet; the footprint classification skips every other
@@ -475,36 +524,14 @@ cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
     } else {
       mixed = &all_tapes;
     }
-    // Edge pixel: jittered stratified samples, one per cell of an N x N grid,
-    // the jitter a fixed function of the pixel index.
-    uint64_t state = mix64(kJitterSeed ^ (static_cast<uint64_t>(k) * 0xd1b54a32d192ed03ULL));
-    double sum = 0.0;
-    for (int sy = 0; sy < n; ++sy) {
-      for (int sx = 0; sx < n; ++sx) {
-        state = mix64(state);
-        const double a = (sx + unit_interval(state)) * inv_n - 0.5;
-        state = mix64(state);
-        const double b = (sy + unit_interval(state)) * inv_n - 0.5;
-        double px = 0.0, py = 0.0, inv_r2 = 0.0;
-        if (!geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, px, py,
-                     inv_r2)) {
-          continue;
-        }
-        double reflectance = inside_reflectance, weight = inside_weight;
-        for (int t : *mixed) {
-          const TapeFrame& tape = tapes[static_cast<std::size_t>(t)];
-          if (tape.reflectance > reflectance &&
-              (tape.scaled ? tape.contains(cam_x + tape.scale * (px - cam_x),
-                                           cam_y + tape.scale * (py - cam_y))
-                           : tape.contains(px, py))) {
-            reflectance = tape.reflectance;
-            weight = tape.inv_scale2;
-          }
-        }
-        sum += reflectance * inv_r2 * weight;
-      }
+    // Edge pixel: sampled below, in batches.
+    if (mixed == &all_tapes) {
+      edges.push_back({k, out + i, inside_reflectance, inside_weight, 0, 0, true});
+    } else {
+      edges.push_back(
+          {k, out + i, inside_reflectance, inside_weight, edge_tapes.size(), mixed->size(), false});
+      edge_tapes.insert(edge_tapes.end(), mixed->begin(), mixed->end());
     }
-    out[i] = params.tape_gain * sum * inv_n * inv_n;
     ++stats.edge_pixels;
     stats.samples += static_cast<int64_t>(n) * n;
   };
@@ -553,6 +580,51 @@ cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
         double* out = radiance.ptr<double>(j);
         for (int i = i0; i < i1; ++i) render_pixel(i, j, out, *tile_tapes);
       }
+    }
+  }
+
+  // Edge pixels: jittered stratified samples, one per cell of an N x N grid,
+  // the jitter a fixed function of the pixel index (jittered_offsets), made
+  // for kLanes pixels at a time.
+  constexpr std::size_t kLanes = 4;
+  const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  std::vector<double> jitter_a(kLanes * cells), jitter_b(kLanes * cells);
+  for (std::size_t e0 = 0; e0 < edges.size(); e0 += kLanes) {
+    std::array<std::size_t, kLanes> pixels{};
+    for (std::size_t l = 0; l < kLanes; ++l)
+      pixels[l] = edges[std::min(e0 + l, edges.size() - 1)].k;
+    jitter_lanes<kLanes>(pixels.data(), n, jitter_a.data(), jitter_b.data());
+    for (std::size_t l = 0; l < kLanes && e0 + l < edges.size(); ++l) {
+      const EdgePixel& e = edges[e0 + l];
+      const PixelRay& ray = table->rays[e.k];
+      const double* ja = jitter_a.data() + l * cells;
+      const double* jb = jitter_b.data() + l * cells;
+      const int* mixed = e.all ? all_tapes.data() : edge_tapes.data() + e.first;
+      const std::size_t count = e.all ? all_tapes.size() : e.count;
+      double sum = 0.0;
+      for (std::size_t m = 0; m < cells; ++m) {
+        const double a = ja[m], b = jb[m];
+        const double x = ray.x + ray.j00 * a + ray.j01 * b;
+        const double y = ray.y + ray.j10 * a + ray.j11 * b;
+        double px = 0.0, py = 0.0, t_ray = 0.0;
+        if (!geo.point(x, y, px, py, t_ray)) continue;
+        double reflectance = e.inside_reflectance, weight = e.inside_weight;
+        for (std::size_t c = 0; c < count; ++c) {
+          const TapeFrame& tape = tapes[static_cast<std::size_t>(mixed[c])];
+          if (tape.reflectance > reflectance &&
+              (tape.scaled ? tape.contains(cam_x + tape.scale * (px - cam_x),
+                                           cam_y + tape.scale * (py - cam_y))
+                           : tape.contains(px, py))) {
+            reflectance = tape.reflectance;
+            weight = tape.inv_scale2;
+          }
+        }
+        // A sample on no tape adds reflectance 0 x (a finite 1/r^2) x 1 = +0:
+        // skipping it (and its division) leaves the sum as it was.
+        if (reflectance > 0.0)
+          sum += reflectance * CeilingGeometry::inv_range2(t_ray, x, y) * weight;
+      }
+      *e.out = params.tape_gain * sum * inv_n * inv_n;
     }
   }
   return radiance;
@@ -659,17 +731,7 @@ std::shared_ptr<const std::vector<PixelRay>> pixel_rays(const host::CameraConfig
 }
 
 void jittered_offsets(std::size_t pixel_index, int n, double* a, double* b) {
-  const double inv_n = 1.0 / n;
-  uint64_t state =
-      mix64(kJitterSeed ^ (static_cast<uint64_t>(pixel_index) * 0xd1b54a32d192ed03ULL));
-  for (int sy = 0; sy < n; ++sy) {
-    for (int sx = 0; sx < n; ++sx) {
-      state = mix64(state);
-      *a++ = (sx + unit_interval(state)) * inv_n - 0.5;
-      state = mix64(state);
-      *b++ = (sy + unit_interval(state)) * inv_n - 0.5;
-    }
-  }
+  jitter_lanes<1>(&pixel_index, n, a, b);
 }
 
 void finish_render(cv::Mat& image, const RenderParams& params) {
