@@ -273,6 +273,18 @@ struct TapeFrame {
   // plane, at range k r (radiance / k^2). scaled = (k != 1).
   double scale = 1.0, inv_scale2 = 1.0;
   bool scaled = false;
+  // Whether a box [x0, x1] x [y0, y1] on the default plane, taken onto this
+  // strip's plane (C + k (q - C)), misses the strip's bounding box. Monotone
+  // in the box: a box that holds another misses whatever the other misses.
+  bool box_misses(double x0, double x1, double y0, double y1, double cam_x, double cam_y) const {
+    if (scaled) {
+      x0 = cam_x + scale * (x0 - cam_x);
+      x1 = cam_x + scale * (x1 - cam_x);
+      y0 = cam_y + scale * (y0 - cam_y);
+      y1 = cam_y + scale * (y1 - cam_y);
+    }
+    return x1 < min_x || x0 > max_x || y1 < min_y || y0 > max_y;
+  }
   bool contains(double px, double py) const {
     const double dx = px - ax, dy = py - ay;
     const double s = dx * ex + dy * ey;
@@ -459,7 +471,6 @@ cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
           std::array<double, 4> scaled_x{}, scaled_y{};
           const double* sx = qx.data();
           const double* sy = qy.data();
-          double bx0 = min_x, bx1 = max_x, by0 = min_y, by1 = max_y;
           if (tape.scaled) {
             for (std::size_t c = 0; c < 4; ++c) {
               scaled_x[c] = cam_x + tape.scale * (qx[c] - cam_x);
@@ -467,14 +478,8 @@ cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
             }
             sx = scaled_x.data();
             sy = scaled_y.data();
-            bx0 = cam_x + tape.scale * (min_x - cam_x);
-            bx1 = cam_x + tape.scale * (max_x - cam_x);
-            by0 = cam_y + tape.scale * (min_y - cam_y);
-            by1 = cam_y + tape.scale * (max_y - cam_y);
           }
-          if (bx1 < tape.min_x || bx0 > tape.max_x || by1 < tape.min_y || by0 > tape.max_y) {
-            continue;
-          }
+          if (tape.box_misses(min_x, max_x, min_y, max_y, cam_x, cam_y)) continue;
           int s_below = 0, s_above = 0, t_below = 0, t_above = 0;
           for (std::size_t c = 0; c < 4; ++c) {
             const double dx = sx[c] - tape.ax, dy = sy[c] - tape.ay;
@@ -557,18 +562,8 @@ cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
           tile_footprint(geo, tile, x0, x1, y0, y1)) {
         near.clear();
         for (std::size_t t = 0; t < tapes.size(); ++t) {
-          const TapeFrame& tape = tapes[t];
-          double bx0 = x0, bx1 = x1, by0 = y0, by1 = y1;
-          if (tape.scaled) {  // as the pixels' box test: monotone in the box
-            bx0 = cam_x + tape.scale * (x0 - cam_x);
-            bx1 = cam_x + tape.scale * (x1 - cam_x);
-            by0 = cam_y + tape.scale * (y0 - cam_y);
-            by1 = cam_y + tape.scale * (y1 - cam_y);
-          }
-          if (bx1 < tape.min_x || bx0 > tape.max_x || by1 < tape.min_y || by0 > tape.max_y) {
-            continue;
-          }
-          near.push_back(static_cast<int>(t));
+          if (!tapes[t].box_misses(x0, x1, y0, y1, cam_x, cam_y))
+            near.push_back(static_cast<int>(t));
         }
         if (near.empty()) {
           stats.background_pixels += static_cast<int64_t>(i1 - i0) * (j1 - j0);

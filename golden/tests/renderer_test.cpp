@@ -564,6 +564,14 @@ TEST(GoldenRenderer, NoiseIsSeededGaussianWithTheRequestedSigma) {
   params.noise_seed = 43;
   const cv::Mat other = render_float(camera, empty, {}, params);
   EXPECT_GT(cv::norm(first, other, cv::NORM_INF), 1.0);
+  // The renderer keeps the noise of the last few seeds: a seed rendered again
+  // after others have displaced it gets the same noise as when it was kept.
+  for (uint64_t seed = 44; seed < 50; ++seed) {
+    params.noise_seed = seed;
+    render_float(camera, empty, {}, params);
+  }
+  params.noise_seed = 42;
+  EXPECT_EQ(cv::norm(first, render_float(camera, empty, {}, params), cv::NORM_INF), 0.0);
 
   const double count = static_cast<double>(first.total());
   double sum = 0.0, sum2 = 0.0, lag = 0.0, within = 0.0;
@@ -651,6 +659,38 @@ TEST(GoldenRenderer, BlurPreservesIntensityAndAddsSigmaSquared) {
 
 // ---------------------------------------------------------------------------
 
+// Adaptive sampling (tile culling, footprint classification, batched edge
+// pixels) against full sampling of every pixel: edge and background pixels
+// are bit-identical; interior pixels differ by the 2x2 midpoint vs NxN
+// jittered quadrature of a smooth 1/r^2, which varies by < 1% across a
+// footprint: relative difference < 1e-3. A wrongly classified edge pixel
+// (e.g. a strip culled that touches it) would differ by >= 1/N^2 = 6% of its
+// value.
+void expect_adaptive_equals_full(const host::CameraConfig& camera, const CeilingScene& scene,
+                                 const CameraPose& pose, RenderParams params) {
+  RenderStats adaptive_stats, full_stats;
+  params.adaptive_sampling = true;
+  const cv::Mat adaptive = render_float(camera, scene, pose, params, &adaptive_stats);
+  params.adaptive_sampling = false;
+  const cv::Mat full = render_float(camera, scene, pose, params, &full_stats);
+  double peak = 0.0;
+  cv::minMaxLoc(full, nullptr, &peak);
+  EXPECT_GT(peak, 60.0);
+  EXPECT_LT(cv::norm(adaptive, full, cv::NORM_INF), 1e-3 * peak);
+  int differing = 0;
+  for (int j = 0; j < full.rows; ++j) {
+    for (int i = 0; i < full.cols; ++i)
+      differing += adaptive.at<double>(j, i) != full.at<double>(j, i);
+  }
+  EXPECT_LE(differing, adaptive_stats.interior_pixels);
+  EXPECT_GT(adaptive_stats.edge_pixels, 100);
+  EXPECT_GT(adaptive_stats.interior_pixels, 100);
+  EXPECT_LT(adaptive_stats.edge_pixels, full_stats.edge_pixels / 20);
+  EXPECT_EQ(adaptive_stats.background_pixels + adaptive_stats.interior_pixels +
+                adaptive_stats.edge_pixels,
+            static_cast<int64_t>(camera.image_width) * camera.image_height);
+}
+
 TEST(GoldenRenderer, AdaptiveSamplingEqualsFullSampling) {
   const CeilingScene scene = corridor_scene(0.05, {.second_tape = true});
   struct Case {
@@ -663,27 +703,21 @@ TEST(GoldenRenderer, AdaptiveSamplingEqualsFullSampling) {
     const host::CameraConfig camera = make_camera(tc.pitch_deg, tc.distorted);
     RenderParams params = exact_params(4);
     params.apply_distortion = tc.distorted;
-    RenderStats adaptive_stats, full_stats;
-    const cv::Mat adaptive = render_float(camera, scene, tc.pose, params, &adaptive_stats);
-    params.adaptive_sampling = false;
-    const cv::Mat full = render_float(camera, scene, tc.pose, params, &full_stats);
-    double peak = 0.0;
-    cv::minMaxLoc(full, nullptr, &peak);
-    EXPECT_GT(peak, 60.0);
-    // Edge and background pixels are bit-identical; interior pixels differ by
-    // the 2x2 midpoint vs NxN jittered quadrature of a smooth 1/r^2, which
-    // varies by < 1% across a footprint: relative difference < 1e-3. A wrongly
-    // classified edge pixel would differ by >= 1/N^2 = 6% of its value.
-    EXPECT_LT(cv::norm(adaptive, full, cv::NORM_INF), 1e-3 * peak);
-    int differing = 0;
-    for (int j = 0; j < full.rows; ++j) {
-      for (int i = 0; i < full.cols; ++i)
-        differing += adaptive.at<double>(j, i) != full.at<double>(j, i);
-    }
-    EXPECT_LE(differing, adaptive_stats.interior_pixels);
-    EXPECT_GT(adaptive_stats.edge_pixels, 100);
-    EXPECT_GT(adaptive_stats.interior_pixels, 100);
-    EXPECT_LT(adaptive_stats.edge_pixels, full_stats.edge_pixels / 20);
+    expect_adaptive_equals_full(camera, scene, tc.pose, params);
+  }
+}
+
+// The tile culling scales a strip on its own ceiling height like the pixels'
+// box test: strips above and below the default ceiling, seen steeply and
+// towards the horizon, render as with full sampling.
+TEST(GoldenRenderer, AdaptiveSamplingEqualsFullSamplingOnHeightZones) {
+  CeilingScene scene = corridor_scene(0.05, {.second_tape = true});
+  for (std::size_t k = 0; k < scene.tapes.size(); ++k) {
+    if (k % 3 != 0) scene.tapes[k].ceiling_height_m = k % 3 == 1 ? 3.4 : 2.6;
+  }
+  for (const double pitch : {60.0, 15.0}) {
+    const host::CameraConfig camera = make_camera(pitch, true);
+    expect_adaptive_equals_full(camera, scene, {5.5, 0.2, 0.3}, exact_params(4));
   }
 }
 
