@@ -658,9 +658,18 @@ std::shared_ptr<const std::vector<double>> noise_field(uint64_t noise_seed, doub
     const double u2 = unit_interval(mix64(seed ^ (2 * index + 1)));
     (*field)[k] = sigma * std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
   }
-  const std::lock_guard<std::mutex> lock(mutex);
+  // At most 4 fields and 64 MiB of them (four 2048 x 1024 frames); a larger
+  // field is not kept.
   constexpr std::size_t kCacheEntries = 4;
-  if (cache.size() >= kCacheEntries) cache.erase(cache.begin());
+  constexpr std::size_t kCacheValues = std::size_t{8} << 20;
+  if (field->size() > kCacheValues) return field;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::size_t values = field->size();
+  for (const auto& entry : cache) values += entry.second->size();
+  while (!cache.empty() && (cache.size() >= kCacheEntries || values > kCacheValues)) {
+    values -= cache.front().second->size();
+    cache.erase(cache.begin());
+  }
   cache.emplace_back(key, field);
   return field;
 }
