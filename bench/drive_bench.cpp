@@ -1,8 +1,10 @@
 // Closed-loop simulation speed (docs/navigation.md, "Closed loop"): the
 // default course driven for 5 simulated seconds (150 frames at 30 fps, 500
 // odometry ticks) on the fast backend, one core, as `ceilnav drive` runs it:
-// the counter x_realtime is simulated seconds per wall second. The second
-// benchmark splits a frame's cost: rendering it, and the device plus host.
+// the counter x_realtime is simulated seconds per second of CPU time (Google
+// Benchmark divides rate counters by CPU time; on an idle core, wall time).
+// The second benchmark splits a frame's cost: rendering it, and the device
+// plus host.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
