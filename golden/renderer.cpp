@@ -368,11 +368,9 @@ bool tile_footprint(const CeilingGeometry& geo, const RayTile& tile, double& x0,
     const double up = x * geo.rz + y * geo.dz + geo.fz;
     // The rise is linear in the ray: its smallest value over the box is at a
     // corner, and a well-rising box keeps the division well conditioned.
-    if (!(up >= 1e-3 * rise_scale)) return false;
+    double px = 0.0, py = 0.0, t = 0.0;
+    if (!(up >= 1e-3 * rise_scale) || !geo.point(x, y, px, py, t)) return false;
     min_up = std::min(min_up, up);
-    const double t = geo.height_m / up;
-    const double px = geo.cx_m + t * (x * geo.rx + y * geo.dx + geo.fx);
-    const double py = geo.cy_m + t * (x * geo.ry + y * geo.dy + geo.fy);
     x0 = std::min(x0, px);
     x1 = std::max(x1, px);
     y0 = std::min(y0, py);
@@ -444,12 +442,12 @@ cv::Mat radiance_of(const host::CameraConfig& camera, const CeilingScene& scene,
     const std::vector<int>* mixed = &candidates;
     candidates.clear();
     if (params.adaptive_sampling) {
-      std::array<double, 4> qx{}, qy{}, q_inv_r2{};
+      std::array<double, 4> qx{}, qy{}, q_t{};
       int rising = 0;
       for (std::size_t c = 0; c < 4; ++c) {
         const double a = corner_offset_a(c), b = corner_offset_b(c);
-        if (geo.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, qx[c],
-                    qy[c], q_inv_r2[c])) {
+        if (geo.point(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, qx[c],
+                      qy[c], q_t[c])) {
           ++rising;
         }
       }
