@@ -7,7 +7,6 @@
 // "Mount calibration".
 #pragma once
 
-#include <string>
 #include <vector>
 
 #include "common/camera_config.hpp"
