@@ -134,6 +134,30 @@ struct DriveOptions {
 };
 int run_drive(const DriveOptions& o);
 
+// `ceilnav calibrate-mount`: the mount calibration drive (sim::calibration_drive)
+// with these true mount errors; calibration.json and frames.csv.
+struct CalibrateMountOptions {
+  std::string out_dir = "ceilnav-calibration";
+  double yaw_deg = 0.8, roll_deg = 0.5, pitch_error_deg = 1.0;  // the true mount errors
+  double forward_m = 0.1, left_m = 0.02;                        // the true mount position
+  // The drawings' lateral differs from the true one by this; its sigma
+  // enters the roll's and the yaw's covariance.
+  double left_error_mm = 0.0, left_sigma_mm = 0.0;
+  std::string backend = "fast";
+  uint64_t seed = 1;
+  int monte_carlo = 1;
+  double run_length_m = 4.0;  // each direction
+  double speed_mps = 0.5;
+  double heading_deg = 4.0;  // relative to the tape, each half of a run
+  double pitch_deg = 60.0;
+  double ceiling_height_m = 2.5;
+  int width = 320, height = 240;
+  bool fit_pitch = true;
+  bool quiet = false;
+  bool require = false;  // exit 1 unless every run's mounting yaw is within 0.05 deg
+};
+int run_calibrate_mount(const CalibrateMountOptions& o);
+
 // The device for a backend name (fast, model, or rtl when this build has the
 // Verilated RTL; std::runtime_error otherwise); the bus backends with the
 // demo's tvalid gaps (0.1) and run-stream back-pressure (0.3).

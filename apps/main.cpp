@@ -329,6 +329,75 @@ CLI::App* add_drive_command(CLI::App& app, DriveOptions& drive) {
   return cmd;
 }
 
+// `ceilnav calibrate-mount` and its options, parsed into `cal`.
+CLI::App* add_calibrate_mount_command(CLI::App& app, CalibrateMountOptions& cal) {
+  auto* cmd = app.add_subcommand(
+      "calibrate-mount",
+      "The camera mount calibration drive: a simulated robot drives along a tape at +-4 deg, "
+      "turns in place and drives back; its frames through the device and the host give the "
+      "camera's mounting yaw, roll and pitch errors; writes calibration.json and frames.csv");
+  cmd->add_option("--out", cal.out_dir, "Output folder (written whole or not at all)")
+      ->capture_default_str();
+  cmd->add_option("--yaw", cal.yaw_deg, "True mount yaw error, degrees")
+      ->check(finite_in(-5.0, 5.0))
+      ->capture_default_str();
+  cmd->add_option("--roll", cal.roll_deg, "True camera roll error, degrees")
+      ->check(finite_in(-5.0, 5.0))
+      ->capture_default_str();
+  cmd->add_option("--pitch-error", cal.pitch_error_deg, "True camera pitch error, degrees")
+      ->check(finite_in(-5.0, 5.0))
+      ->capture_default_str();
+  cmd->add_option("--forward", cal.forward_m,
+                  "Camera ahead of the wheel axis, m (drawings = truth)")
+      ->check(finite_in(-0.5, 0.5))
+      ->capture_default_str();
+  cmd->add_option("--left", cal.left_m, "Camera left of the robot's centre line, m (truth)")
+      ->check(finite_in(-0.5, 0.5))
+      ->capture_default_str();
+  cmd->add_option("--left-error", cal.left_error_mm,
+                  "The drawings' lateral minus the true one, mm (moves the roll and the yaw)")
+      ->check(finite_in(-50.0, 50.0))
+      ->capture_default_str();
+  cmd->add_option("--left-sigma", cal.left_sigma_mm, "The drawings' lateral sigma, mm")
+      ->check(finite_in(0.0, 50.0))
+      ->capture_default_str();
+  cmd->add_option("--backend", cal.backend, "fast, model or rtl")
+      ->check(CLI::IsMember({"fast", "model", "rtl"}))
+      ->capture_default_str();
+  cmd->add_option("--seed", cal.seed, "Seed of slip, wheel scale errors, start pose and noise")
+      ->check(unsigned_integer())
+      ->capture_default_str();
+  cmd->add_option("--monte-carlo", cal.monte_carlo,
+                  "Runs with seeds seed .. seed + N - 1; calibration.json gets the error "
+                  "distributions")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  cmd->add_option("--run-length", cal.run_length_m, "Length of each run, m")
+      ->check(finite_in(1.0, 50.0))
+      ->capture_default_str();
+  cmd->add_option("--speed", cal.speed_mps, "Driving speed, m/s")
+      ->check(finite_in(0.05, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--heading", cal.heading_deg, "Heading relative to the tape in each half, deg")
+      ->check(finite_in(1.0, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--pitch", cal.pitch_deg, "Configured camera pitch above the horizontal, deg")
+      ->check(finite_in(30.0, 80.0))
+      ->capture_default_str();
+  cmd->add_option("--width", cal.width, "Camera image width (the demo camera scaled)")
+      ->check(CLI::Range(64, 2048))
+      ->capture_default_str();
+  cmd->add_option("--height", cal.height, "Camera image height")
+      ->check(CLI::Range(48, 2048))
+      ->capture_default_str();
+  cmd->add_flag("!--no-pitch", cal.fit_pitch,
+                "Do not fit the pitch error (its yaw bias then stays in the yaw)");
+  cmd->add_flag("--quiet", cal.quiet, "No progress bar");
+  cmd->add_flag("--require", cal.require,
+                "Exit 1 unless every run's mounting yaw is within 0.05 deg of the truth");
+  return cmd;
+}
+
 CLI::App* add_profile_command(CLI::App& app, ProfileOptions& prof) {
   auto* prof_cmd = app.add_subcommand(
       "profile",
@@ -519,6 +588,7 @@ int main(int argc, char** argv) {
   ExposureOptions expo;
   DriveOptions drive;
   RenderDriveOptions render_drive;
+  CalibrateMountOptions calibrate;
   CLI::App* demo_cmd = add_demo_command(app, demo);
   CLI::App* run_cmd = add_run_command(app, run);
   CLI::App* render_cmd = add_render_command(app, render);
@@ -529,6 +599,7 @@ int main(int argc, char** argv) {
   CLI::App* expo_cmd = add_exposure_command(app, expo);
   CLI::App* drive_cmd = add_drive_command(app, drive);
   CLI::App* render_drive_cmd = add_render_drive_command(app, render_drive);
+  CLI::App* calibrate_cmd = add_calibrate_mount_command(app, calibrate);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -542,6 +613,7 @@ int main(int argc, char** argv) {
     if (*expo_cmd) return run_exposure(expo);
     if (*drive_cmd) return run_drive(drive);
     if (*render_drive_cmd) return run_render_drive(render_drive);
+    if (*calibrate_cmd) return run_calibrate_mount(calibrate);
   } catch (const ceilnav::host::ConfigError& e) {
     std::cerr << "ceilnav: scene error: " << e.what() << '\n';
     return 1;

@@ -32,7 +32,7 @@ expect_error() {
   ok "$name"
 }
 
-for cmd in "" demo run render accuracy exposure profile pattern pattern-accuracy drive render-drive; do
+for cmd in "" demo run render accuracy exposure profile pattern pattern-accuracy drive render-drive calibrate-mount; do
   if $CEILNAV $cmd --help >"$work/help.txt" 2>&1 && grep -q -- "--" "$work/help.txt"; then
     ok "help ${cmd:-top}"
   else
@@ -621,6 +621,43 @@ sed 's/width_m: 0.05/width_m: -1/' "$work/cl/short.yaml" >"$work/cl/bad_width.ya
 expect_error "drive bad course file" "width" "$work/cl/bad2" -- drive --course "$work/cl/bad_width.yaml" --out "$work/cl/bad2" --quiet
 expect_error "drive missing course" "course" "$work/cl/bad3" -- drive --course "$work/cl/none.yaml" --out "$work/cl/bad3"
 expect_error "drive both courses" "excludes" "$work/cl/bad4" -- drive --course "$work/cl/short.yaml" --random-course 3 --out "$work/cl/bad4"
+
+# calibrate-mount: the calibration drive recovers the mounting yaw within
+# 0.05 deg (--require), writes calibration.json and frames.csv; two seeds
+# give the Monte-Carlo distributions; bad arguments leave no output folder.
+mkdir -p "$work/cal"
+co=$work/cal/out
+if $CEILNAV calibrate-mount --out "$co" --run-length 3 --yaw -0.7 --roll 0.4 --pitch-error 0.8 \
+  --seed 2 --quiet --require >"$work/cal/log.txt" 2>&1 &&
+  [ -f "$co/calibration.json" ] && [ -f "$co/frames.csv" ] &&
+  grep -q '"yaw_within_goal": true' "$co/calibration.json" &&
+  grep -q '"roll_deg": 0.4' "$co/calibration.json" && grep -q '"filter_mount"' "$co/calibration.json" &&
+  head -1 "$co/frames.csv" | grep -q '^run,t_s,distance_m,ok,yaw_rad,offset_m'; then
+  ok "calibrate-mount"
+else
+  bad "calibrate-mount" "$(tail -3 "$work/cal/log.txt")"
+fi
+# The estimate follows the true yaw (a constant answer fails one of the two).
+yaw_est() { sed -n '/"estimate"/,/}/p' "$1/calibration.json" | awk -F': ' '/"yaw_deg"/ { gsub(",", "", $2); print $2 }'; }
+if $CEILNAV calibrate-mount --out "$work/cal/pos" --run-length 3 --yaw 0.7 --roll 0.4 --pitch-error 0.8 \
+  --seed 2 --quiet >/dev/null 2>&1 &&
+  awk -v a="$(yaw_est "$co")" -v b="$(yaw_est "$work/cal/pos")" 'BEGIN { exit !(a < -0.65 && a > -0.75 && b > 0.65 && b < 0.75) }'; then
+  ok "calibrate-mount follows the yaw"
+else
+  bad "calibrate-mount follows the yaw" "$(yaw_est "$co") $(yaw_est "$work/cal/pos")"
+fi
+if $CEILNAV calibrate-mount --out "$work/cal/mc" --run-length 2 --monte-carlo 2 --quiet >/dev/null 2>&1 &&
+  grep -q '"monte_carlo"' "$work/cal/mc/calibration.json" &&
+  grep -q '"abs_yaw_error_deg"' "$work/cal/mc/calibration.json"; then
+  ok "calibrate-mount monte carlo"
+else
+  bad "calibrate-mount monte carlo"
+fi
+expect_error "calibrate-mount bad yaw" "--yaw" "$work/cal/bad1" -- calibrate-mount --out "$work/cal/bad1" --yaw nan
+expect_error "calibrate-mount zero runs" "--monte-carlo" "$work/cal/bad2" -- calibrate-mount --out "$work/cal/bad2" --monte-carlo 0
+expect_error "calibrate-mount bad backend" "--backend" "$work/cal/bad3" -- calibrate-mount --out "$work/cal/bad3" --backend gpu
+expect_error "calibrate-mount short run" "--run-length" "$work/cal/bad4" -- calibrate-mount --out "$work/cal/bad4" --run-length 0.5
+expect_error "calibrate-mount heading too large" "--heading" "$work/cal/bad5" -- calibrate-mount --out "$work/cal/bad5" --heading 20
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
