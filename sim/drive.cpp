@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include <fmt/format.h>
+#include <opencv2/core.hpp>
 
 #include "golden/pattern/pattern.hpp"
 #include "host/junction.hpp"
@@ -243,11 +244,32 @@ void Drive::analyse_station(int index, const StationView& sv, double t0, double 
   DriveRenderParams rp = config_.render;
   rp.render.noise_seed = config_.render.render.noise_seed * 1000003u + static_cast<uint64_t>(index);
   const PoseTrack& track = track_;
-  const cv::Mat crop = render_drive_frame(
+  cv::Mat crop = render_drive_frame(
       window, config_.course, config_.mount, [&track](double t) { return track.at(t); }, t0,
       config_.exposure_s, rp);
+  // The bar-code reader takes the bars left to right along the image rows
+  // as the pattern's +x; a station the filter predicts with its +x pointing
+  // left in the image (e.g. its +y along the robot's heading under a camera
+  // pitched up) would read as its mirror print. The host turns such a
+  // window 180 deg: the camera turned about its optical axis (x, y -> -x,
+  // -y: principal point mirrored, tangential distortion negated), and the
+  // pose comes back to the camera's axes.
+  const bool turned = (view.world_to_camera * f.axes.col(0)).x() < 0.0;
+  const Eigen::Vector3d flip(turned ? -1.0 : 1.0, turned ? -1.0 : 1.0, 1.0);
+  if (turned) {
+    cv::rotate(crop, crop, cv::ROTATE_180);
+    window.camera_matrix[2] = window.image_width - 1.0 - window.camera_matrix[2];
+    window.camera_matrix[5] = window.image_height - 1.0 - window.camera_matrix[5];
+    window.distortion_coefficients[2] = -window.distortion_coefficients[2];
+    window.distortion_coefficients[3] = -window.distortion_coefficients[3];
+    po.up_cam = flip.asDiagonal() * po.up_cam;
+  }
   const PatternFrameAnalysis a = analyse_pattern_frame(
       *pattern_device_, crop, config_.render.pattern_radiometry, host::CameraModel(window), po);
+  hp::PatternPose p = a.conic_bars;  // the conic pose refined with the bars
+  p.centre_cam = flip.asDiagonal() * p.centre_cam;
+  p.normal_cam = flip.asDiagonal() * p.normal_cam;
+  if (p.up_cam) p.up_cam = Eigen::Vector3d(flip.asDiagonal() * *p.up_cam);
 
   PatternFixRecord r;
   r.frame = index;
@@ -257,19 +279,7 @@ void Drive::analyse_station(int index, const StationView& sv, double t0, double 
                   a.passes * pass_time_s(sv.region.area()) + sf.host_time_s;
   const CameraWorldPose truth = camera_pose(config_.camera, config_.mount, track_.at(r.exposure_s));
   r.truth = {truth.centre.x(), truth.centre.y(), truth.heading_rad()};
-  const hp::PatternPose& p = a.conic_bars;  // the conic pose refined with the bars
-  // The reader takes the bars left to right along the image rows as the
-  // pattern's +x: a station seen with its +x pointing left in the image
-  // (e.g. its +y along the robot's heading under a camera pitched up) reads
-  // as its mirror print (golden::pattern::mirrored_identity), and the bars'
-  // fit turns the pose 180 deg about the face normal: its +y (up_cam) then
-  // points against the one the filter predicts. The fix uses the station's
-  // frame turned the same way, and expects the mirror identity. (A code
-  // that reads the same mirrored fits either way; the fit starts from the
-  // prediction.)
-  const bool turned = p.up_cam && p.up_cam->dot(po.up_cam) < 0.0;
   const int id = stations_[static_cast<std::size_t>(station)].id;
-  const int expected = turned ? golden::pattern::mirrored_identity(id).value_or(id) : id;
   r.d_m = p.d_m;
   r.code_read = a.code.status == hp::PatternStatus::ok;
   r.theta_rad = p.theta_rad;
@@ -280,7 +290,7 @@ void Drive::analyse_station(int index, const StationView& sv, double t0, double 
     r.status = std::string(hp::to_string(p.status));
   } else if (!p.up_cam) {
     r.status = "no_bars";
-  } else if (a.code.status == hp::PatternStatus::ok && a.code.identity != expected) {
+  } else if (a.code.status == hp::PatternStatus::ok && a.code.identity != id) {
     r.status = "wrong_identity";
   } else {
     r.status = "ok";
@@ -289,9 +299,7 @@ void Drive::analyse_station(int index, const StationView& sv, double t0, double 
     fix.status = p.status == hp::PatternStatus::no_pattern ? nav::MeasurementStatus::not_found
                                                            : nav::MeasurementStatus::inconsistent;
   } else {
-    const Eigen::Matrix3d axes =
-        turned ? Eigen::Matrix3d(f.axes * Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal()) : f.axes;
-    const hp::WorldFix w = hp::world_fix(p, axes, f.origin, *p.up_cam);
+    const hp::WorldFix w = hp::world_fix(p, f.axes, f.origin, *p.up_cam);
     // The heading the filter's camera yaw is (CameraWorldPose::heading_rad):
     // the horizontal direction of the camera's forward + down axes, defined
     // at any pitch up to the zenith.
