@@ -244,42 +244,67 @@ void Drive::analyse_station(int index, const StationView& sv, double t0, double 
   DriveRenderParams rp = config_.render;
   rp.render.noise_seed = config_.render.render.noise_seed * 1000003u + static_cast<uint64_t>(index);
   const PoseTrack& track = track_;
-  cv::Mat crop = render_drive_frame(
+  const cv::Mat crop = render_drive_frame(
       window, config_.course, config_.mount, [&track](double t) { return track.at(t); }, t0,
       config_.exposure_s, rp);
-  // The bar-code reader takes the bars left to right along the image rows
-  // as the pattern's +x; a station the filter predicts with its +x pointing
-  // left in the image (e.g. its +y along the robot's heading under a camera
-  // pitched up) would read as its mirror print. The host turns such a
-  // window 180 deg: the camera turned about its optical axis (x, y -> -x,
-  // -y: principal point mirrored, tangential distortion negated), and the
-  // pose comes back to the camera's axes.
-  const bool turned = (view.world_to_camera * f.axes.col(0)).x() < 0.0;
-  const Eigen::Vector3d flip(turned ? -1.0 : 1.0, turned ? -1.0 : 1.0, 1.0);
-  if (turned) {
-    cv::rotate(crop, crop, cv::ROTATE_180);
-    window.camera_matrix[2] = window.image_width - 1.0 - window.camera_matrix[2];
-    window.camera_matrix[5] = window.image_height - 1.0 - window.camera_matrix[5];
-    window.distortion_coefficients[2] = -window.distortion_coefficients[2];
-    window.distortion_coefficients[3] = -window.distortion_coefficients[3];
-    po.up_cam = flip.asDiagonal() * po.up_cam;
+  // The bar-code reader reads the blocks along the image rows: a station
+  // seen with its +x pointing left in the image (its +y along the robot's
+  // heading under a camera pitched up) may read as its mirror print, its
+  // pose then turned 180 deg about the face normal, or not read at all (it
+  // depends on the identity). The host analyses the window as it is and,
+  // when that gives no code or no bars' fit, turned 180 deg: the camera
+  // turned about its optical axis (x, y -> -x, -y: principal point
+  // mirrored, tangential distortion negated), the pose brought back to the
+  // camera's axes. Both analyses' passes count in the latency.
+  const Eigen::Vector3d predicted_y = po.up_cam;
+  auto analyse = [&](bool turn, PatternFrameAnalysis& out) {
+    host::CameraConfig cam = window;
+    hp::PoseOptions o = po;
+    cv::Mat img = crop;
+    const Eigen::Vector3d flip(turn ? -1.0 : 1.0, turn ? -1.0 : 1.0, 1.0);
+    if (turn) {
+      cv::rotate(crop, img, cv::ROTATE_180);
+      cam.camera_matrix[2] = cam.image_width - 1.0 - cam.camera_matrix[2];
+      cam.camera_matrix[5] = cam.image_height - 1.0 - cam.camera_matrix[5];
+      cam.distortion_coefficients[2] = -cam.distortion_coefficients[2];
+      cam.distortion_coefficients[3] = -cam.distortion_coefficients[3];
+      o.up_cam = flip.asDiagonal() * o.up_cam;
+    }
+    out = analyse_pattern_frame(*pattern_device_, img, config_.render.pattern_radiometry,
+                                host::CameraModel(cam), o);
+    hp::PatternPose q = out.conic_bars;  // the conic pose refined with the bars
+    q.centre_cam = flip.asDiagonal() * q.centre_cam;
+    q.normal_cam = flip.asDiagonal() * q.normal_cam;
+    if (q.up_cam) q.up_cam = Eigen::Vector3d(flip.asDiagonal() * *q.up_cam);
+    return q;
+  };
+  PatternFrameAnalysis a;
+  hp::PatternPose p = analyse(false, a);
+  int passes = a.passes;
+  if (a.code.status != hp::PatternStatus::ok || !p.up_cam) {
+    PatternFrameAnalysis b;
+    const hp::PatternPose q = analyse(true, b);
+    passes += b.passes;
+    if (b.code.status == hp::PatternStatus::ok && q.up_cam) {
+      a = std::move(b);
+      p = q;
+    }
   }
-  const PatternFrameAnalysis a = analyse_pattern_frame(
-      *pattern_device_, crop, config_.render.pattern_radiometry, host::CameraModel(window), po);
-  hp::PatternPose p = a.conic_bars;  // the conic pose refined with the bars
-  p.centre_cam = flip.asDiagonal() * p.centre_cam;
-  p.normal_cam = flip.asDiagonal() * p.normal_cam;
-  if (p.up_cam) p.up_cam = Eigen::Vector3d(flip.asDiagonal() * *p.up_cam);
+  // A pose whose measured +y points against the predicted one was read
+  // turned: the station's mirror identity (when it has one), and its frame
+  // turned the same way for the fix.
+  const bool turned = p.up_cam && p.up_cam->dot(predicted_y) < 0.0;
 
   PatternFixRecord r;
   r.frame = index;
   r.station = station;
   r.exposure_s = t0 + 0.5 * config_.exposure_s;
   r.available_s = t0 + config_.exposure_s + tape_latency_s +
-                  a.passes * pass_time_s(sv.region.area()) + sf.host_time_s;
+                  passes * pass_time_s(sv.region.area()) + sf.host_time_s;
   const CameraWorldPose truth = camera_pose(config_.camera, config_.mount, track_.at(r.exposure_s));
   r.truth = {truth.centre.x(), truth.centre.y(), truth.heading_rad()};
   const int id = stations_[static_cast<std::size_t>(station)].id;
+  const int expected = turned ? golden::pattern::mirrored_identity(id).value_or(id) : id;
   r.d_m = p.d_m;
   r.code_read = a.code.status == hp::PatternStatus::ok;
   r.theta_rad = p.theta_rad;
@@ -290,7 +315,7 @@ void Drive::analyse_station(int index, const StationView& sv, double t0, double 
     r.status = std::string(hp::to_string(p.status));
   } else if (!p.up_cam) {
     r.status = "no_bars";
-  } else if (a.code.status == hp::PatternStatus::ok && a.code.identity != id) {
+  } else if (a.code.status == hp::PatternStatus::ok && a.code.identity != expected) {
     r.status = "wrong_identity";
   } else {
     r.status = "ok";
@@ -299,7 +324,9 @@ void Drive::analyse_station(int index, const StationView& sv, double t0, double 
     fix.status = p.status == hp::PatternStatus::no_pattern ? nav::MeasurementStatus::not_found
                                                            : nav::MeasurementStatus::inconsistent;
   } else {
-    const hp::WorldFix w = hp::world_fix(p, f.axes, f.origin, *p.up_cam);
+    const Eigen::Matrix3d axes =
+        turned ? Eigen::Matrix3d(f.axes * Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal()) : f.axes;
+    const hp::WorldFix w = hp::world_fix(p, axes, f.origin, *p.up_cam);
     // The heading the filter's camera yaw is (CameraWorldPose::heading_rad):
     // the horizontal direction of the camera's forward + down axes, defined
     // at any pitch up to the zenith.
