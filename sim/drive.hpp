@@ -51,13 +51,14 @@ struct DriveConfig {
   // frame in which the filter's predicted camera view shows a mapped
   // station's panel whole (margin_px inside the image) is also analysed as
   // a pattern frame (analyse_pattern_frame) on a window of the sensor's
-  // full resolution around the predicted panel; an ok pose (bars measured,
-  // the identity the station's or unread) becomes a PatternFix at the
-  // camera. Noise model: the camera's floor position with sigmas along and
+  // full resolution around the predicted panel (and, when that reads no
+  // code, on the window turned 180 deg); an ok pose (bars measured, the
+  // identity the station's, its mirror's when read turned, or unread)
+  // becomes a PatternFix at the camera. Noise model: the camera's floor position with sigmas along and
   // across the horizontal line of sight to the disc, each a + b D (D: the
   // camera's distance to the disc), and the yaw's sigma; from the scatter
-  // of 73 fixes at D = 3.4-3.65 m on the default and random courses (RMS
-  // 0.21 mm along, 0.49 mm across, 0.008 deg), inflated by about 1.25.
+  // of 80 fixes at D = 3.4-3.65 m on the default and random courses (RMS
+  // 0.19 mm along, 0.56 mm across, 0.010 deg), inflated 1.1-1.3 times.
   struct StationFixes {
     bool enabled = true;
     // The frame the tapes use is the sensor's binned window_scale times;
