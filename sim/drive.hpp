@@ -54,11 +54,10 @@ struct DriveConfig {
   // full resolution around the predicted panel (and, when that reads no
   // code, on the window turned 180 deg); an ok pose (bars measured, the
   // identity the station's, its mirror's when read turned, or unread)
-  // becomes a PatternFix at the camera. Noise model: the camera's floor position with sigmas along and
-  // across the horizontal line of sight to the disc, each a + b D (D: the
-  // camera's distance to the disc), and the yaw's sigma; from the scatter
-  // of 80 fixes at D = 3.4-3.65 m on the default and random courses (RMS
-  // 0.19 mm along, 0.56 mm across, 0.010 deg), inflated 1.1-1.3 times.
+  // becomes a PatternFix at the camera. Noise model: the camera's floor position with sigmas along
+  // and across the horizontal line of sight to the disc, each a + b D (D: the camera's distance to
+  // the disc), and the yaw's sigma; from the scatter of 80 fixes at D = 3.4-3.65 m on the default
+  // and random courses (RMS 0.19 mm along, 0.56 mm across, 0.010 deg), inflated 1.1-1.3 times.
   struct StationFixes {
     bool enabled = true;
     // The frame the tapes use is the sensor's binned window_scale times;
