@@ -8,9 +8,9 @@
 
 #include "apps/atomic_file.hpp"
 #include "apps/commands.hpp"
-#include "apps/pattern_analysis.hpp"
 #include "drivers/device.hpp"
 #include "host/camera_model.hpp"
+#include "sim/pattern_analysis.hpp"
 
 namespace ceilnav::app {
 namespace gp = golden::pattern;
@@ -49,13 +49,13 @@ std::vector<PatternAccuracyRow> measure_pattern_accuracy(const PatternAccuracyOp
         p.photometry = {o.gain, o.offset_grey, o.vignetting};
         const cv::Mat grey = gp::render_pattern(camera, geometry, radiometry, r.identity, v, p);
         const gp::PatternTruth t = gp::pattern_truth(camera, geometry, r.identity, v);
-        hp::PoseOptions po = pose_options_for(geometry);
+        hp::PoseOptions po = sim::pose_options_for(geometry);
         po.up_cam = v.rotation.col(1);  // the mount's known tilt (docs/pattern.md)
         // The camera's blur and noise (calibrated, not per frame).
         po.psf_sigma_px = o.calib_blur_sigma >= 0.0 ? o.calib_blur_sigma : o.blur_sigma;
         po.noise_grey = o.calib_noise_sigma >= 0.0 ? o.calib_noise_sigma : o.noise_sigma;
-        const PatternFrameAnalysis a =
-            analyse_pattern_frame(device, grey, radiometry, model, po, o.self_calibrate);
+        const sim::PatternFrameAnalysis a =
+            sim::analyse_pattern_frame(device, grey, radiometry, model, po, o.self_calibrate);
         const hp::PatternPose* poses[4] = {&a.projection, &a.moment, &a.conic, &a.conic_bars};
         for (int m = 0; m < 4; ++m) {
           const hp::PatternPose& q = *poses[m];

@@ -7,10 +7,11 @@
 #include <fmt/format.h>
 
 #include "apps/atomic_file.hpp"
+#include "apps/commands.hpp"
 #include "apps/pattern_accuracy.hpp"
-#include "apps/pattern_analysis.hpp"
 #include "apps/plot.hpp"
 #include "common/csv.hpp"
+#include "sim/pattern_analysis.hpp"
 
 namespace ceilnav::app {
 namespace fs = std::filesystem;

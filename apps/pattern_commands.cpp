@@ -20,7 +20,6 @@
 #include "apps/atomic_file.hpp"
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
-#include "apps/pattern_analysis.hpp"
 #include "common/csv.hpp"
 #include "drivers/device.hpp"
 #include "golden/default_scene.hpp"
@@ -32,6 +31,7 @@
 #include "host/pattern/pattern_pose.hpp"
 #include "host/pattern/pattern_search.hpp"
 #include "host/pattern/world_fix.hpp"
+#include "sim/pattern_analysis.hpp"
 
 namespace ceilnav::app {
 namespace fs = std::filesystem;
@@ -71,8 +71,8 @@ void draw_ellipse(cv::Mat& bgr, const hp::Ellipse& e, const host::CameraModel& m
   if (pts.size() > 2) cv::polylines(bgr, pts, true, colour, 1, cv::LINE_AA, 4);
 }
 
-cv::Mat overlay(const cv::Mat& grey, const PatternFrameAnalysis& a, const host::CameraModel& model,
-                const std::string& text) {
+cv::Mat overlay(const cv::Mat& grey, const sim::PatternFrameAnalysis& a,
+                const host::CameraModel& model, const std::string& text) {
   cv::Mat bgr;
   cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
   for (const auto& r : hp::split_disc_runs(a.runs, a.moments[hp::kDisc]).second) {
@@ -112,7 +112,7 @@ struct FixRow {
 };
 
 // One frame's fix: the exact conic pose refined with the bars, the code, the database.
-FixRow make_fix(const PatternFrameAnalysis& a, const gp::PatternDatabase& db,
+FixRow make_fix(const sim::PatternFrameAnalysis& a, const gp::PatternDatabase& db,
                 const Eigen::Vector3d& up_cam, double pan_rad) {
   FixRow r;
   r.code_status = std::string(hp::to_string(a.code.status));
@@ -214,7 +214,7 @@ int run_pattern_frames(const PatternOptions& o) {
   const host::CameraModel model(camera);
   const gp::Radiometry radiometry;
   drivers::Device device(device_options(o.backend));
-  hp::PoseOptions po = pose_options_for(db.geometry);
+  hp::PoseOptions po = sim::pose_options_for(db.geometry);
   // The camera is taken as level with no swing (up = -y) for the start of
   // the pose; where the code is read the bars measure the actual up (tilt and
   // swing) and the fix uses that.
@@ -224,7 +224,8 @@ int run_pattern_frames(const PatternOptions& o) {
   const std::unique_ptr<OutputFolder> overlays = overlay_folder(o);
   for (const fs::path& f : frames) {
     const cv::Mat grey = host::read_grey_frame(f, camera.image_width, camera.image_height);
-    const PatternFrameAnalysis a = analyse_pattern_frame(device, grey, radiometry, model, po);
+    const sim::PatternFrameAnalysis a =
+        sim::analyse_pattern_frame(device, grey, radiometry, model, po);
     FixRow r = make_fix(a, db, po.up_cam, 0.0);
     r.frame = f.filename().string();
     if (!o.quiet) std::printf("%s: %s\n", r.frame.c_str(), fix_text(r).c_str());
@@ -299,9 +300,10 @@ int run_pattern(const PatternOptions& o) {
       grey = cv::Mat(camera.image_height, camera.image_width, CV_8UC1,
                      cv::Scalar(radiometry.level(gp::PixelClass::background)));
     }
-    hp::PoseOptions po = pose_options_for(db.geometry);
+    hp::PoseOptions po = sim::pose_options_for(db.geometry);
     po.noise_grey = o.noise_sigma;
-    const PatternFrameAnalysis a = analyse_pattern_frame(device, grey, radiometry, model, po);
+    const sim::PatternFrameAnalysis a =
+        sim::analyse_pattern_frame(device, grey, radiometry, model, po);
     FixRow r = make_fix(a, db, po.up_cam, pan);
     r.frame = frame_name(static_cast<int>(rows.size()));
     r.pan_deg = pan / kDeg;

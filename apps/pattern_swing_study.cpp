@@ -8,8 +8,8 @@
 
 #include "apps/commands.hpp"
 #include "apps/pattern_accuracy.hpp"
-#include "apps/pattern_analysis.hpp"
 #include "host/pattern/world_fix.hpp"
+#include "sim/pattern_analysis.hpp"
 
 namespace ceilnav::app {
 namespace gp = golden::pattern;
@@ -27,18 +27,18 @@ struct Study {
   uint64_t frame = 0;
 
   // The host assumes a level camera without swing (it does not know either).
-  PatternFrameAnalysis analyse(const gp::PatternView& v) {
+  sim::PatternFrameAnalysis analyse(const gp::PatternView& v) {
     gp::PatternRenderParams p;
     p.noise_sigma_grey = o.noise_sigma;
     p.blur_sigma_px = o.blur_sigma;
     p.noise_seed = o.seed * 1000003U + frame++;
     p.supersample = o.supersample;
     const cv::Mat grey = gp::render_pattern(camera, geometry, radiometry, 17, v, p);
-    hp::PoseOptions po = pose_options_for(geometry);
+    hp::PoseOptions po = sim::pose_options_for(geometry);
     po.up_cam = Eigen::Vector3d(0.0, -1.0, 0.0);
     po.psf_sigma_px = o.blur_sigma;
     po.noise_grey = o.noise_sigma;
-    return analyse_pattern_frame(device, grey, radiometry, model, po);
+    return sim::analyse_pattern_frame(device, grey, radiometry, model, po);
   }
 };
 
@@ -75,7 +75,7 @@ int run_pattern_swing_height_study(const PatternAccuracyOptions& o) {
   for (const double th : {15.0, 30.0, 45.0, 60.0}) {
     for (const double sg : {2.0, 5.0, 10.0}) {
       const double d = 2.0, t = th * kDeg, g = sg * kDeg;
-      const PatternFrameAnalysis a = s.analyse(gp::spherical_view(d, t, 90.0 * kDeg, g));
+      const sim::PatternFrameAnalysis a = s.analyse(gp::spherical_view(d, t, 90.0 * kDeg, g));
       const double c2s = std::cos(g) * std::cos(g), s2s = std::sin(g) * std::sin(g);
       const double c2t = std::cos(t) * std::cos(t), s2t = std::sin(t) * std::sin(t);
       const double d_pred = 100.0 * (1.0 / std::sqrt(c2s + c2t * s2s) - 1.0);  // eq. 61-62
@@ -113,7 +113,8 @@ int run_pattern_swing_height_study(const PatternAccuracyOptions& o) {
   for (const double l : {1.0, 3.0}) {
     for (const double dy : {0.05, 0.1, 0.2, 0.4}) {
       const Eigen::Vector3d c(0.0, dy, l);
-      const PatternFrameAnalysis a = s.analyse(gp::look_at(c, Eigen::Vector3d(0.0, dy, 0.0), 0.0));
+      const sim::PatternFrameAnalysis a =
+          s.analyse(gp::look_at(c, Eigen::Vector3d(0.0, dy, 0.0), 0.0));
       const double d = c.norm(), th = std::atan2(dy, l) / kDeg;
       auto d_err = [&](const hp::PatternPose& p) {
         return has_pose(p) ? 100.0 * (p.d_m / d - 1.0) : kNaN;

@@ -1,4 +1,4 @@
-// Time of `ceilnav pattern`'s per-frame work (app::analyse_pattern_frame on
+// Time of `ceilnav pattern`'s per-frame work (sim::analyse_pattern_frame on
 // the fast backend: the device's passes, the photometric self-calibration and
 // the host's whole analysis) on real frames
 // that hold no standard pattern: by default the real-image corpus
@@ -28,13 +28,13 @@
 
 #include <opencv2/core.hpp>
 
-#include "apps/pattern_analysis.hpp"
 #include "drivers/device.hpp"
 #include "golden/default_scene.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_model.hpp"
 #include "host/pattern/pattern_frame.hpp"
 #include "real_corpus.hpp"
+#include "sim/pattern_analysis.hpp"
 
 namespace {
 
@@ -79,7 +79,7 @@ void BM_PatternRealFrames(benchmark::State& state) {
   const host::CameraModel model(camera);
   const gp::Radiometry radiometry;
   drivers::Device device(drivers::DeviceOptions{});  // the fast backend
-  hp::PoseOptions po = app::pose_options_for(gp::PatternGeometry{});
+  hp::PoseOptions po = sim::pose_options_for(gp::PatternGeometry{});
   po.up_cam = Eigen::Vector3d(0.0, -1.0, 0.0);
   // Kept across the library's calls (its estimate run and the timed run).
   static std::vector<double> best(frames().size(), std::numeric_limits<double>::infinity());
@@ -89,8 +89,8 @@ void BM_PatternRealFrames(benchmark::State& state) {
     for (size_t i = 0; i < frames().size(); ++i) {
       const cv::Mat& g = frames()[i].grey;
       const auto t0 = std::chrono::steady_clock::now();
-      const app::PatternFrameAnalysis a =
-          app::analyse_pattern_frame(device, g, radiometry, model, po);
+      const sim::PatternFrameAnalysis a =
+          sim::analyse_pattern_frame(device, g, radiometry, model, po);
       const auto t1 = std::chrono::steady_clock::now();
       benchmark::DoNotOptimize(a);
       best[i] = std::min(best[i], std::chrono::duration<double, std::milli>(t1 - t0).count());

@@ -6,13 +6,18 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 #include <string_view>
 
 #include <fmt/format.h>
+#include <opencv2/core.hpp>
 
+#include "golden/pattern/pattern.hpp"
 #include "host/junction.hpp"
+#include "host/pattern/world_fix.hpp"
 #include "nav/chi_square.hpp"
+#include "sim/pattern_analysis.hpp"
 #include "stream/ceilnav_top.hpp"
 
 namespace ceilnav::sim {
@@ -37,6 +42,33 @@ double distance_to_path(const std::vector<Eigen::Vector2d>& w, const Eigen::Vect
     best = std::min(best, (w[k] + u * ab - p).norm());
   }
   return best;
+}
+
+const char* outcome_name(nav::Outcome o) {
+  switch (o) {
+    case nav::Outcome::accepted:
+      return "accepted";
+    case nav::Outcome::pending:
+      return "pending";
+    case nav::Outcome::rejected_gate:
+      return "rejected_gate";
+    case nav::Outcome::unassociated:
+      return "unassociated";
+    case nav::Outcome::too_old:
+      return "too_old";
+    case nav::Outcome::not_ok:
+      return "not_ok";
+  }
+  return "unknown";
+}
+
+// The camera the filter believes in: its mount, without pitch or roll errors.
+CameraMount believed(const nav::CameraMount& m) {
+  CameraMount c;
+  c.forward_m = m.forward_m;
+  c.left_m = m.left_m;
+  c.yaw_error_rad = m.yaw_rad;
+  return c;
 }
 
 }  // namespace
@@ -94,6 +126,9 @@ Drive::Drive(const DriveConfig& config)
   ekf_ = std::make_unique<nav::Ekf>(eo, &map_, 0.0, x0, p0);
   navigator_ = std::make_unique<host::Navigator>(
       config_.camera, drivers::make_device(config_.device), config_.navigator);
+  stations_ = config_.station_map ? *config_.station_map : config_.course.patterns;
+  if (config_.station_fixes.enabled && !stations_.empty())
+    pattern_device_ = std::make_unique<drivers::Device>(config_.device);
   track_.add(0.0, robot_.pose());
   t_end_ = config_.max_time_s > 0.0
                ? config_.max_time_s
@@ -102,14 +137,222 @@ Drive::Drive(const DriveConfig& config)
 
 Drive::~Drive() = default;
 
-double Drive::frame_latency_s(const host::FrameOutcome& o) const {
-  // The pipeline's own timing: a pass streams W x H pixels at one per clock
+double Drive::pass_time_s(int pixels) const {
+  // The pipeline's own timing: a pass streams its pixels at one per clock
   // and raises its interrupt kEofToIntrCycles after the last (docs/profile.md);
   // the same on every backend, since they are cycle-true to one another.
-  const double cycles =
-      static_cast<double>(config_.camera.image_width) * config_.camera.image_height +
-      stream::CeilnavTop::kEofToIntrCycles;
-  return std::max(1, o.passes) * cycles / config_.pixel_clock_hz + config_.host_time_s;
+  return (static_cast<double>(pixels) + stream::CeilnavTop::kEofToIntrCycles) /
+         config_.pixel_clock_hz;
+}
+
+double Drive::frame_latency_s(const host::FrameOutcome& o) const {
+  return std::max(1, o.passes) *
+             pass_time_s(config_.camera.image_width * config_.camera.image_height) +
+         config_.host_time_s;
+}
+
+std::optional<Drive::StationView> Drive::station_in_view() const {
+  if (!pattern_device_) return std::nullopt;
+  const golden::pattern::PatternGeometry& g = config_.render.pattern_geometry;
+  const golden::CameraView view =
+      camera_view(config_.camera, believed(config_.believed_mount), ekf_->pose());
+  const host::CameraConfig sensor = sensor_camera();
+  const host::CameraModel model(sensor);
+  const double half_w = std::abs(golden::pattern::block_outer_x_m(g)) + g.plate_margin_m;
+  const double half_h = 0.5 * g.bar_height_m + g.plate_margin_m;
+  const double m = config_.station_fixes.margin_px * config_.station_fixes.window_scale;
+  const double w = sensor.image_width, h = sensor.image_height;
+  std::optional<StationView> best;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < stations_.size(); ++k) {
+    const StationFrame f = station_frame(config_.course, stations_[k], g);
+    bool inside = true;
+    double u0 = w, u1 = 0.0, v0 = h, v1 = 0.0;
+    for (int c = 0; c < 4 && inside; ++c) {
+      const Eigen::Vector3d local((c & 1) ? half_w : -half_w, (c & 2) ? half_h : -half_h, 0.0);
+      const Eigen::Vector3d p = view.world_to_camera * (f.origin + f.axes * local - view.centre);
+      if (!(p.z() > 0.0)) {
+        inside = false;
+        break;
+      }
+      const Eigen::Vector2d xy(p.x() / p.z(), p.y() / p.z());
+      // The pinhole image first: the distortion model folds far outside it.
+      const Eigen::Vector2d ideal = model.ideal_pixel(xy);
+      if (ideal.x() < -0.5 * w || ideal.x() > 1.5 * w || ideal.y() < -0.5 * h ||
+          ideal.y() > 1.5 * h) {
+        inside = false;
+        break;
+      }
+      const Eigen::Vector2d px = model.distort_to_pixel(xy);
+      inside = px.x() >= m && px.x() <= w - 1.0 - m && px.y() >= m && px.y() <= h - 1.0 - m;
+      u0 = std::min(u0, px.x());
+      u1 = std::max(u1, px.x());
+      v0 = std::min(v0, px.y());
+      v1 = std::max(v1, px.y());
+    }
+    const double d = (f.origin - view.centre).norm();
+    if (!inside || !(d < nearest)) continue;
+    nearest = d;
+    // The region the pattern passes stream: the panel's box grown by a
+    // quarter of its size (the prediction's error) and the margin.
+    const double gu = 0.25 * (u1 - u0) + m, gv = 0.25 * (v1 - v0) + m;
+    const int x0 = std::max(0, static_cast<int>(std::floor(u0 - gu)));
+    const int y0 = std::max(0, static_cast<int>(std::floor(v0 - gv)));
+    const int x1 = std::min(static_cast<int>(w), static_cast<int>(std::ceil(u1 + gu)) + 1);
+    const int y1 = std::min(static_cast<int>(h), static_cast<int>(std::ceil(v1 + gv)) + 1);
+    best = StationView{static_cast<int>(k), cv::Rect(x0, y0, x1 - x0, y1 - y0)};
+  }
+  return best;
+}
+
+host::CameraConfig Drive::sensor_camera() const {
+  const int k = config_.station_fixes.window_scale;
+  host::CameraConfig c = config_.camera;
+  c.image_width *= k;
+  c.image_height *= k;
+  c.camera_matrix[0] *= k;
+  c.camera_matrix[4] *= k;
+  c.camera_matrix[2] = (c.camera_matrix[2] + 0.5) * k - 0.5;
+  c.camera_matrix[5] = (c.camera_matrix[5] + 0.5) * k - 0.5;
+  return c;
+}
+
+void Drive::analyse_station(int index, const StationView& sv, double t0, double tape_latency_s) {
+  const int station = sv.station;
+  namespace hp = host::pattern;
+  const DriveConfig::StationFixes& sf = config_.station_fixes;
+  const golden::pattern::PatternGeometry& g = config_.render.pattern_geometry;
+  const StationFrame f =
+      station_frame(config_.course, stations_[static_cast<std::size_t>(station)], g);
+  hp::PoseOptions po = pose_options_for(g);
+  // The camera's calibrated noise and blur.
+  po.noise_grey = config_.render.render.noise_sigma_grey;
+  po.psf_sigma_px = config_.render.render.blur_sigma_px;
+  // The pattern's +y in the camera as the filter predicts it; the bars
+  // measure it (PatternPose::up_cam), and the fix takes the measured one.
+  const golden::CameraView view =
+      camera_view(config_.camera, believed(config_.believed_mount), ekf_->pose());
+  po.up_cam = (view.world_to_camera * f.axes.col(1)).normalized();
+  // The window of the same exposure at the sensor's full resolution where
+  // the panel is predicted (the tape frame is binned window_scale times):
+  // the sensor's camera with the principal point moved into the window.
+  host::CameraConfig window = sensor_camera();
+  window.image_width = sv.region.width;
+  window.image_height = sv.region.height;
+  window.camera_matrix[2] -= sv.region.x;
+  window.camera_matrix[5] -= sv.region.y;
+  DriveRenderParams rp = config_.render;
+  rp.render.noise_seed = config_.render.render.noise_seed * 1000003u + static_cast<uint64_t>(index);
+  const PoseTrack& track = track_;
+  const cv::Mat crop = render_drive_frame(
+      window, config_.course, config_.mount, [&track](double t) { return track.at(t); }, t0,
+      config_.exposure_s, rp);
+  // The bar-code reader reads the blocks along the image rows: a station
+  // seen with its +x pointing left in the image (its +y along the robot's
+  // heading under a camera pitched up) may read as its mirror print, its
+  // pose then turned 180 deg about the face normal, or not read at all (it
+  // depends on the identity). The host analyses the window as it is and,
+  // when that gives no code or no bars' fit, turned 180 deg: the camera
+  // turned about its optical axis (x, y -> -x, -y: principal point
+  // mirrored, tangential distortion negated), the pose brought back to the
+  // camera's axes. Both analyses' passes count in the latency.
+  const Eigen::Vector3d predicted_y = po.up_cam;
+  auto analyse = [&](bool turn, PatternFrameAnalysis& out) {
+    host::CameraConfig cam = window;
+    hp::PoseOptions o = po;
+    cv::Mat img = crop;
+    const Eigen::Vector3d flip(turn ? -1.0 : 1.0, turn ? -1.0 : 1.0, 1.0);
+    if (turn) {
+      cv::rotate(crop, img, cv::ROTATE_180);
+      cam.camera_matrix[2] = cam.image_width - 1.0 - cam.camera_matrix[2];
+      cam.camera_matrix[5] = cam.image_height - 1.0 - cam.camera_matrix[5];
+      cam.distortion_coefficients[2] = -cam.distortion_coefficients[2];
+      cam.distortion_coefficients[3] = -cam.distortion_coefficients[3];
+      o.up_cam = flip.asDiagonal() * o.up_cam;
+    }
+    out = analyse_pattern_frame(*pattern_device_, img, config_.render.pattern_radiometry,
+                                host::CameraModel(cam), o);
+    hp::PatternPose q = out.conic_bars;  // the conic pose refined with the bars
+    q.centre_cam = flip.asDiagonal() * q.centre_cam;
+    q.normal_cam = flip.asDiagonal() * q.normal_cam;
+    if (q.up_cam) q.up_cam = Eigen::Vector3d(flip.asDiagonal() * *q.up_cam);
+    return q;
+  };
+  PatternFrameAnalysis a;
+  hp::PatternPose p = analyse(false, a);
+  int passes = a.passes;
+  if (a.code.status != hp::PatternStatus::ok || !p.up_cam) {
+    PatternFrameAnalysis b;
+    const hp::PatternPose q = analyse(true, b);
+    passes += b.passes;
+    if (b.code.status == hp::PatternStatus::ok && q.up_cam) {
+      a = std::move(b);
+      p = q;
+    }
+  }
+  // A pose whose measured +y points against the predicted one was read
+  // turned: the station's mirror identity (when it has one), and its frame
+  // turned the same way for the fix.
+  const bool turned = p.up_cam && p.up_cam->dot(predicted_y) < 0.0;
+
+  PatternFixRecord r;
+  r.frame = index;
+  r.station = station;
+  r.exposure_s = t0 + 0.5 * config_.exposure_s;
+  r.available_s = t0 + config_.exposure_s + tape_latency_s +
+                  passes * pass_time_s(sv.region.area()) + sf.host_time_s;
+  const CameraWorldPose truth = camera_pose(config_.camera, config_.mount, track_.at(r.exposure_s));
+  r.truth = {truth.centre.x(), truth.centre.y(), truth.heading_rad()};
+  const int id = stations_[static_cast<std::size_t>(station)].id;
+  const int expected = turned ? golden::pattern::mirrored_identity(id).value_or(id) : id;
+  r.d_m = p.d_m;
+  r.code_read = a.code.status == hp::PatternStatus::ok;
+  r.theta_rad = p.theta_rad;
+  nav::PatternFix& fix = r.fix;
+  fix.time.exposure_s = r.exposure_s;
+  fix.time.available_s = r.available_s;
+  if (p.status != hp::PatternStatus::ok) {
+    r.status = std::string(hp::to_string(p.status));
+  } else if (!p.up_cam) {
+    r.status = "no_bars";
+  } else if (a.code.status == hp::PatternStatus::ok && a.code.identity != expected) {
+    r.status = "wrong_identity";
+  } else {
+    r.status = "ok";
+  }
+  if (r.status != "ok") {
+    fix.status = p.status == hp::PatternStatus::no_pattern ? nav::MeasurementStatus::not_found
+                                                           : nav::MeasurementStatus::inconsistent;
+  } else {
+    const Eigen::Matrix3d axes =
+        turned ? Eigen::Matrix3d(f.axes * Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal()) : f.axes;
+    const hp::WorldFix w = hp::world_fix(p, axes, f.origin, *p.up_cam);
+    // The heading the filter's camera yaw is (CameraWorldPose::heading_rad):
+    // the horizontal direction of the camera's forward + down axes, defined
+    // at any pitch up to the zenith.
+    const Eigen::Vector3d look = w.world_from_camera.col(2) + w.world_from_camera.col(1);
+    fix.x_m = w.x_m;
+    fix.y_m = w.y_m;
+    fix.yaw_rad = std::atan2(look.y(), look.x());
+    // The noise model: along and across the horizontal line of sight.
+    Eigen::Vector2d u(f.origin.x() - w.x_m, f.origin.y() - w.y_m);
+    u = u.norm() > 1e-9 ? Eigen::Vector2d(u.normalized())
+                        : Eigen::Vector2d(std::cos(fix.yaw_rad), std::sin(fix.yaw_rad));
+    const Eigen::Vector2d v(-u.y(), u.x());
+    const double sa = sf.along_sigma_m + sf.along_sigma_per_m * p.d_m;
+    const double sc = sf.across_sigma_m + sf.across_sigma_per_m * p.d_m;
+    fix.covariance.setZero();
+    fix.covariance.topLeftCorner<2, 2>() =
+        sa * sa * u * u.transpose() + sc * sc * v * v.transpose();
+    fix.covariance(2, 2) = sf.yaw_sigma_rad * sf.yaw_sigma_rad;
+  }
+  Pending pm;
+  pm.kind = Pending::Kind::pattern;
+  pm.pattern = fix;
+  pm.frame = index;
+  pm.record = static_cast<int>(pattern_records_.size());
+  pattern_records_.push_back(std::move(r));
+  pending_.push_back(pm);
 }
 
 void Drive::expose_frame(int index, double t0) {
@@ -118,6 +361,8 @@ void Drive::expose_frame(int index, double t0) {
   const cv::Mat frame = render_drive_frame(config_.camera, config_.course, config_.mount, pose_at,
                                            t0, config_.exposure_s, config_.render);
   const host::FrameOutcome out = navigator_->process(frame);
+  if (const std::optional<StationView> sv = station_in_view())
+    analyse_station(index, *sv, t0, frame_latency_s(out));
   const host::TapePose& pose =
       out.zenith && out.zenith->status == host::Status::ok ? *out.zenith : out.pose;
   ++frames_;
@@ -159,7 +404,7 @@ void Drive::expose_frame(int index, double t0) {
        host::detect_junctions(out, navigator_->camera_model(), config_.camera)) {
     if (j.kind == host::JunctionKind::none) continue;
     Pending l;
-    l.is_landmark = true;
+    l.kind = Pending::Kind::landmark;
     l.frame = index;
     l.landmark.time = time;
     l.landmark.kind = j.kind == host::JunctionKind::tape_end
@@ -205,30 +450,21 @@ bool Drive::step() {
   std::size_t used = 0;
   for (; used < pending_.size() && pending_[used].available_s() <= t_ + 1e-9; ++used) {
     const Pending& pm = pending_[used];
-    const nav::Outcome o = pm.is_landmark ? ekf_->update(pm.landmark) : ekf_->update(pm.m);
-    if (pm.is_landmark && o != nav::Outcome::accepted) continue;  // the tape's outcome is shown
-    row.frame = pending_[used].frame;
-    switch (o) {
-      case nav::Outcome::accepted:
-        row.outcome = pm.is_landmark ? "accepted_landmark" : "accepted";
-        if (!pm.is_landmark) blind_m_ = 0.0;
-        break;
-      case nav::Outcome::pending:
-        row.outcome = "pending";
-        break;
-      case nav::Outcome::rejected_gate:
-        row.outcome = "rejected_gate";
-        break;
-      case nav::Outcome::unassociated:
-        row.outcome = "unassociated";
-        break;
-      case nav::Outcome::too_old:
-        row.outcome = "too_old";
-        break;
-      case nav::Outcome::not_ok:
-        row.outcome = "not_ok";
-        break;
+    const nav::Outcome o = pm.kind == Pending::Kind::landmark  ? ekf_->update(pm.landmark)
+                           : pm.kind == Pending::Kind::pattern ? ekf_->update(pm.pattern)
+                                                               : ekf_->update(pm.m);
+    // A landmark's outcome shows when it was accepted, else the tape's does;
+    // a pattern fix's always does.
+    if (pm.kind == Pending::Kind::landmark && o != nav::Outcome::accepted) continue;
+    row.frame = pm.frame;
+    row.outcome = outcome_name(o);
+    if (pm.kind == Pending::Kind::landmark) row.outcome += "_landmark";
+    if (pm.kind == Pending::Kind::pattern) {
+      row.outcome += "_pattern";
+      row.station = pattern_records_[static_cast<std::size_t>(pm.record)].station;
+      pattern_records_[static_cast<std::size_t>(pm.record)].outcome = outcome_name(o);
     }
+    if (pm.kind == Pending::Kind::tape && o == nav::Outcome::accepted) blind_m_ = 0.0;
   }
   pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(used));
 
@@ -326,6 +562,28 @@ DriveSummary Drive::summary() const {
     }
   }
   s.counters = ekf_->counters();
+  for (std::size_t k = 0; k < stations_.size(); ++k) {
+    DriveSummary::Station st;
+    st.id = stations_[k].id;
+    for (const PatternFixRecord& r : pattern_records_) {
+      if (r.station != static_cast<int>(k)) continue;
+      ++st.frames_analysed;
+      st.fixes_ok += r.status == "ok";
+      st.fixes_accepted += r.outcome == "accepted";
+    }
+    auto error = [](const DriveRow& r) {
+      return std::hypot(r.truth.x_m - r.estimate.x_m, r.truth.y_m - r.estimate.y_m);
+    };
+    bool first = true;
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+      const DriveRow& r = rows_[i];
+      if (r.station != static_cast<int>(k) || r.outcome != "accepted_pattern") continue;
+      if (first) st.error_before_m = error(rows_[i > 0 ? i - 1 : 0]);
+      first = false;
+      st.error_after_m = error(r);
+    }
+    s.stations.push_back(st);
+  }
   if (!rows_.empty()) {
     const DriveRow& r = rows_.back();
     s.final_position_error_m =

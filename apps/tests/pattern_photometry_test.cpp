@@ -1,6 +1,6 @@
 // Pattern frames rendered with a camera gain, offset and vignetting the host
 // is not told, through the device and the host with the photometric
-// self-calibration (apps/pattern_analysis.hpp, docs/pattern.md §2): at the
+// self-calibration (sim/pattern_analysis.hpp, docs/pattern.md §2): at the
 // corners of the calibrated range the pose meets the bars (D within 0.3 %,
 // theta within 0.3 deg) with status ok; beyond it the frame is not ok.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "apps/commands.hpp"
-#include "apps/pattern_analysis.hpp"
+#include "sim/pattern_analysis.hpp"
 
 namespace ceilnav::app {
 namespace {
@@ -42,9 +42,9 @@ Result analyse(const Frame& f, const gp::CameraPhotometry& photometry, uint64_t 
   p.photometry = photometry;
   const cv::Mat grey = gp::render_pattern(camera, g, nominal, f.identity, v, p);
   drivers::Device device;
-  hp::PoseOptions po = pose_options_for(g);
+  hp::PoseOptions po = sim::pose_options_for(g);
   po.up_cam = v.rotation.col(1);
-  const PatternFrameAnalysis a = analyse_pattern_frame(device, grey, nominal, model, po);
+  const sim::PatternFrameAnalysis a = sim::analyse_pattern_frame(device, grey, nominal, model, po);
   Result r;
   r.ok = a.conic_bars.status == hp::PatternStatus::ok && a.code.status == hp::PatternStatus::ok &&
          a.code.identity == f.identity;

@@ -8,19 +8,29 @@
 
 namespace ceilnav::host::pattern {
 
-// Camera position and heading in the world from a pose and the pattern's
-// placement (the pattern frame of golden/pattern/pattern.hpp).
+// A wall pattern's placement: disc centre (x, y, z), facing the horizontal
+// direction facing_rad (its +z), its +y the world's up.
 struct Placement {
   double x_m = 0, y_m = 0, z_m = 0, facing_rad = 0;
 };
 struct WorldFix {
   double x_m = 0, y_m = 0, z_m = 0;
   double camera_yaw_rad = 0;  // heading of the optical axis, CCW from +X
+  // The camera's axes (columns: x right, y down, z forward) in the world.
+  Eigen::Matrix3d world_from_camera = Eigen::Matrix3d::Identity();
 };
-// The camera position from D, theta, beta; its yaw from the direction of the
-// disc centre in the camera (pose.centre_cam) and up_cam.
+// The camera position from D, theta, beta; its orientation from the
+// direction of the disc centre in the camera (pose.centre_cam) and the
+// pattern's +y in the camera, y_cam (for a wall pattern the world's up;
+// refine_with_bars measures it: pose.up_cam) paired with the same two
+// directions in the pattern frame (TRIAD).
 WorldFix world_fix(const PatternPose& pose, const Placement& placement,
-                   const Eigen::Vector3d& up_cam);
+                   const Eigen::Vector3d& y_cam);
+// Any placement: the pattern frame's axes (columns x, y, z in world
+// coordinates) and its origin (the disc centre) in the world, e.g. a
+// ceiling station facing down (sim::station_frame).
+WorldFix world_fix(const PatternPose& pose, const Eigen::Matrix3d& pattern_axes,
+                   const Eigen::Vector3d& pattern_origin, const Eigen::Vector3d& y_cam);
 
 // The camera's swing sigma (seed 003 eq. 70, beta' = beta + sigma): its roll
 // about the optical axis away from the pose where its x axis is horizontal,

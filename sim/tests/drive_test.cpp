@@ -1,10 +1,13 @@
 // The closed loop on a short course: the route is planned through its
 // junction, the robot finishes on the tape, and the model backend (the
 // cycle-level device through its registers, with random stream gaps and
-// back-pressure) drives the same trajectory as the fast one, bit for bit.
+// back-pressure) drives the same trajectory as the fast one, bit for bit;
+// a pattern station beside a straight tape fixes the position, and one the
+// map puts in the wrong place is rejected by the filter's gate.
 #include "sim/drive.hpp"
 
 #include <cmath>
+#include <numbers>
 
 #include <gtest/gtest.h>
 
@@ -45,6 +48,82 @@ DriveConfig config(drivers::Backend backend) {
   d.robot.left_scale = 1.001;
   d.robot.right_scale = 0.999;
   return d;
+}
+
+// A straight tape with a pattern station 1.2 m to its left at x = 4: the
+// camera (pitch 60) has its panel in view from about 2.5 m before it.
+DriveConfig station_config() {
+  DriveConfig d = config(drivers::Backend::fast);
+  Course& c = d.course;
+  c.name = "station";
+  c.tapes.clear();
+  TapePolyline t;
+  t.points = {{-1.0, 0.0}, {5.5, 0.0}};
+  c.tapes.push_back(t);
+  c.route.clear();
+  c.start = {0.3, 0.0, 0.0};
+  c.patterns = {{7, 4.0, 1.2, 0.0}};
+  validate(c);
+  d.camera.camera_pitch_deg = 60.0;
+  d.mount.forward_m = d.believed_mount.forward_m = 0.1;
+  // Both wheels 0.5 % long: the along-track error grows by 5 mm per metre
+  // until a fix (no landmark before the tape's end).
+  d.robot.left_scale = d.robot.right_scale = 1.005;
+  d.ekf.odometry.wheel_var_per_m = d.robot.slip_sigma_sqrt_m * d.robot.slip_sigma_sqrt_m;
+  return d;
+}
+
+TEST(Drive, PatternStationFixesThePosition) {
+  Drive d(station_config());
+  d.run();
+  const DriveSummary s = d.summary();
+  EXPECT_TRUE(s.finished);
+  ASSERT_EQ(s.stations.size(), 1u);
+  const DriveSummary::Station& st = s.stations[0];
+  EXPECT_EQ(st.id, 7);
+  EXPECT_GE(st.fixes_accepted, 5);
+  EXPECT_EQ(s.counters.pattern.accepted, st.fixes_accepted);
+  EXPECT_EQ(s.counters.pattern.rejected_gate, 0);
+  // Every ok fix lies within 3 mm and 0.1 deg of the true camera; an ok fix
+  // read the station's identity (its mirror print: the camera sees it with
+  // its +x pointing left) or none.
+  int ok = 0;
+  for (const PatternFixRecord& r : d.pattern_fixes()) {
+    if (r.status != "ok") continue;
+    ++ok;
+    EXPECT_LT(std::hypot(r.fix.x_m - r.truth.x_m, r.fix.y_m - r.truth.y_m), 0.003) << r.frame;
+    EXPECT_LT(std::abs(std::remainder(r.fix.yaw_rad - r.truth.yaw_rad, 2.0 * std::numbers::pi)),
+              0.1 * std::numbers::pi / 180.0)
+        << r.frame;
+    EXPECT_GT(r.available_s, r.exposure_s);
+  }
+  EXPECT_EQ(ok, st.fixes_ok);
+  // The error the wheels built up over the approach, then the fixes' error.
+  EXPECT_GT(st.error_before_m, st.error_after_m);
+  EXPECT_LE(st.error_after_m, 0.003);
+  EXPECT_TRUE(st.goal_met());
+  // The trajectory shows the fixes where the filter applied them.
+  int shown = 0;
+  for (const DriveRow& r : d.rows()) shown += r.outcome == "accepted_pattern";
+  EXPECT_EQ(shown, st.fixes_accepted);
+}
+
+TEST(Drive, AStationMisplacedOnTheMapIsRejectedByTheGate) {
+  DriveConfig c = station_config();
+  // The map puts the station 5 cm further along the tape than it is: every
+  // fix is 5 cm off the filter's prediction, tens of sigmas.
+  c.station_map = c.course.patterns;
+  c.station_map->at(0).x_m += 0.05;
+  Drive d(c);
+  d.run();
+  const DriveSummary s = d.summary();
+  ASSERT_EQ(s.stations.size(), 1u);
+  EXPECT_GE(s.stations[0].fixes_ok, 5);
+  EXPECT_EQ(s.stations[0].fixes_accepted, 0);
+  EXPECT_EQ(s.counters.pattern.accepted, 0);
+  EXPECT_EQ(s.counters.pattern.rejected_gate, s.stations[0].fixes_ok);
+  EXPECT_FALSE(s.stations[0].goal_met());
+  EXPECT_TRUE(s.finished);
 }
 
 TEST(Route, ThroughTheLTurnToTheEnd) {

@@ -1,5 +1,5 @@
 // One pattern frame through the device and the host maths.
-#include "apps/pattern_analysis.hpp"
+#include "sim/pattern_analysis.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace ceilnav::app {
+namespace ceilnav::sim {
 namespace gp = golden::pattern;
 namespace hp = host::pattern;
 
@@ -23,6 +23,7 @@ stream::FrameResults analyse_pass(drivers::Device& device, const cv::Mat& grey,
   a.runs.clear();
   const stream::FrameResults res =
       device.process(grey, gp::device_config(grey.cols, grey.rows, radiometry), a.runs, cycles);
+  ++a.passes;
   if (!res.valid) throw std::runtime_error("pattern: the device rejected the frame");
   a.moments = hp::device_moments(res.class_moments);
   a.radiometry = radiometry;
@@ -50,7 +51,7 @@ stream::FrameResults analyse_pass(drivers::Device& device, const cv::Mat& grey,
 // sigma from w0. docs/pattern.md.
 double local_wall_level(drivers::Device& device, const cv::Mat& grey,
                         const gp::Radiometry& radiometry, const hp::ClassMoments& disc, double w0,
-                        double sigma) {
+                        double sigma, int& passes) {
   if (disc.m00 < 50) return std::numeric_limits<double>::quiet_NaN();
   const double n = static_cast<double>(disc.m00);
   const double cx = static_cast<double>(disc.m10) / n, cy = static_cast<double>(disc.m01) / n;
@@ -81,6 +82,7 @@ double local_wall_level(drivers::Device& device, const cv::Mat& grey,
     std::vector<stream::RunRecord> runs;
     uint64_t cycles = 0;
     const stream::FrameResults res = device.process(grey, cfg, runs, cycles);
+    ++passes;
     if (!res.valid) return std::numeric_limits<double>::quiet_NaN();
     level = hp::level_from_band_counts(
         static_cast<double>(res.class_moments.of(stream::kClassShadow)[stream::kM00]),
@@ -141,7 +143,7 @@ PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Ma
     // The wall's level around the disc (its edge lies between the two).
     const double sigma = std::max(0.5, pose_options.noise_grey);
     const double wall = local_wall_level(device, grey, nominal, a.moments[hp::kDisc],
-                                         cal.level(albedos.wall), sigma);
+                                         cal.level(albedos.wall), sigma, a.passes);
     if (std::isfinite(wall))
       cal = hp::calibrate_photometry(first.histogram.bins, albedos, po, wall);
   }
@@ -159,6 +161,7 @@ PatternFrameAnalysis analyse_pattern_frame(drivers::Device& device, const cv::Ma
     }
     if (cal.ok()) {
       PatternFrameAnalysis b;
+      b.passes = a.passes;
       analyse_pass(device, grey, calibrated, model, pose_options, b);
       b.photometry = cal;
       return b;
@@ -177,4 +180,4 @@ hp::PoseOptions pose_options_for(const gp::PatternGeometry& g) {
   return o;
 }
 
-}  // namespace ceilnav::app
+}  // namespace ceilnav::sim

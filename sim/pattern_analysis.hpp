@@ -1,12 +1,14 @@
 // One frame of seed 003's standard pattern through the device and the host
-// maths: shared by `ceilnav pattern` and `ceilnav pattern-accuracy`.
+// maths: shared by `ceilnav pattern`, `ceilnav pattern-accuracy` and the
+// closed-loop drive's pattern stations (sim::Drive). In sim/, the lowest
+// library that links golden::pattern (the device programming), the drivers
+// and host::pattern together.
 #pragma once
 
 #include <vector>
 
 #include <opencv2/core.hpp>
 
-#include "apps/commands.hpp"
 #include "drivers/device.hpp"
 #include "golden/pattern/pattern.hpp"
 #include "host/camera_model.hpp"
@@ -14,7 +16,7 @@
 #include "host/pattern/pattern_pose.hpp"
 #include "host/pattern/photometry.hpp"
 
-namespace ceilnav::app {
+namespace ceilnav::sim {
 
 // What the device and the host make of one frame.
 struct PatternFrameAnalysis : host::pattern::PatternAnalysis {
@@ -24,6 +26,7 @@ struct PatternFrameAnalysis : host::pattern::PatternAnalysis {
   // programmed with for the analysis (the calibrated ones when it is ok).
   host::pattern::PhotometricCalibration photometry;
   golden::pattern::Radiometry radiometry;
+  int passes = 0;  // frames streamed through the device for the analysis
 };
 
 // The frame streams through the device (class LUT, run mask of bars and
@@ -54,4 +57,4 @@ golden::pattern::Radiometry calibrated_radiometry(const golden::pattern::Radiome
 // The pose options of a pattern's geometry (radius, thickness, rim).
 host::pattern::PoseOptions pose_options_for(const golden::pattern::PatternGeometry& g);
 
-}  // namespace ceilnav::app
+}  // namespace ceilnav::sim
