@@ -293,7 +293,7 @@ CLI::App* add_drive_command(CLI::App& app, DriveOptions& drive) {
           ->check(CLI::NonNegativeNumber)
           ->excludes("--course");
   cmd->add_option("--random-length", drive.random_length_m, "Length of the random course, m")
-      ->check(CLI::Range(10.0, 10000.0))
+      ->check(CLI::Range(60.0, 10000.0))
       ->needs(random_opt)
       ->capture_default_str();
   cmd->add_option("--out", drive.out_dir, "Output folder (created)")->capture_default_str();

@@ -469,6 +469,10 @@ std::vector<Junction> detect_junctions(std::span<const stream::RunRecord> runs,
     jn.side =
         b.side == 2 ? JunctionSide::both : (b.side > 0 ? JunctionSide::left : JunctionSide::right);
     jn.distance_m = b.s0;
+    // s0 is the strip's centroid along s (its inclination term is small):
+    // each of its two edges is quantised to a pixel's span, uniformly, and
+    // the centroid is their mean: variance 2 (foot_s^2 / 12) / 4.
+    jn.distance_sigma_m = b.foot_s / std::sqrt(24.0);
     jn.branch_angle_rad = b.angle;
     jn.evidence = b.ev;
     jn.evidence.line_end_m = line[li].b;
@@ -493,9 +497,20 @@ std::vector<Junction> detect_junctions(std::span<const stream::RunRecord> runs,
         !side_in_view(line[i].b, -1) || !end_width_ok(i)) {
       continue;
     }
+    // The runs reach past the tape's edges by as much as the threshold cuts
+    // into the blurred edge below its half level, across the tape (the
+    // width's excess over W, half each side) as along it at the end: the
+    // same blur and threshold, in pixels; along s a pixel spans foot_s.
+    const double reach_px = std::max(0.0, 0.5 * (end_median(i, &Interval::width) - tape_w)) /
+                            std::max(1e-12, end_median(i, &Interval::foot_l));
     Junction jn;
     jn.kind = JunctionKind::tape_end;
-    jn.distance_m = line[i].b;
+    jn.evidence.end_reach_m = reach_px * end_median(i, &Interval::foot_s);
+    jn.distance_m = line[i].b - jn.evidence.end_reach_m;
+    // The end row is quantised to a pixel's span along s (uniform: foot_s^2 /
+    // 12); the reach comes from widths quantised to a pixel across at both
+    // edges, median over the window's runs: about 0.2 px, taken as 1/12 px^2.
+    jn.distance_sigma_m = end_median(i, &Interval::foot_s) * std::sqrt(2.0 / 12.0);
     jn.evidence.line_end_m = line[i].b;
     jn.evidence.empty_beyond_m = empty_beyond(i);
     jn.evidence.view_end_m = view_hi;

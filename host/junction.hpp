@@ -52,6 +52,10 @@ struct JunctionEvidence {
   double end_contrast_sigma = 0.0;
   // The median width across the tape of the line's runs in that window, over W.
   double end_width_ratio = 0.0;
+  // Tape end: how far the runs reach past the end (the threshold's cut into
+  // the blurred edge, from the width's excess); distance_m is line_end_m
+  // minus it.
+  double end_reach_m = 0.0;
 };
 
 struct Junction {
@@ -65,6 +69,10 @@ struct Junction {
   // perpendicular; less: leaning forward). 0 for a tape end; for a crossing
   // the mean of the two sides.
   double branch_angle_rad = 0.0;
+  // The distance's standard deviation from the pixel quantisation at the
+  // junction (docs/host_maths.md section 9): what the frame's own geometry
+  // allows, not counting the pose's error.
+  double distance_sigma_m = 0.0;
   JunctionEvidence evidence;
 };
 

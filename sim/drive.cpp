@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <random>
 #include <stdexcept>
 #include <string_view>
 
@@ -71,13 +72,25 @@ CameraMount believed(const nav::CameraMount& m) {
   return c;
 }
 
+// The true start: the course's start pose plus a draw from the start sigmas
+// the filter is told (so its initial covariance is a real one).
+nav::Pose2 true_start(const DriveConfig& c) {
+  std::mt19937_64 rng(c.robot.seed ^ 0x5354415254ull);
+  std::normal_distribution<double> n(0.0, 1.0);
+  nav::Pose2 p = c.course.start;
+  p.x_m += c.start_sigma_m * n(rng);
+  p.y_m += c.start_sigma_m * n(rng);
+  p.yaw_rad += c.start_sigma_yaw_rad * n(rng);
+  return p;
+}
+
 }  // namespace
 
 Drive::Drive(const DriveConfig& config)
     : config_(config),
       plan_(plan_route(config.course)),
       strips_(ceiling_scene(config.course)),
-      robot_(config.robot, config.course.start, 0.0),
+      robot_(config.robot, true_start(config), 0.0),
       follower_(plan_.waypoints, config.follower) {
   config_.camera.ceiling_height_m = config_.course.ceiling_height_m;
   config_.camera.camera_height_m = config_.camera_height_m;
@@ -411,11 +424,11 @@ void Drive::expose_frame(int index, double t0) {
                           ? nav::LandmarkMeasurement::Kind::tape_end
                           : nav::LandmarkMeasurement::Kind::junction;
     l.landmark.along_m = j.distance_m * height_factor;
-    const double sigma = (l.landmark.kind == nav::LandmarkMeasurement::Kind::tape_end
-                              ? config_.landmark_noise.tape_end_sigma_m
-                              : config_.landmark_noise.junction_sigma_m) +
-                         config_.landmark_noise.relative_sigma * std::abs(l.landmark.along_m);
-    l.landmark.variance_m2 = sigma * sigma;
+    const double smear = odometry_speed_mps_ * config_.exposure_s;
+    const double scaled = j.distance_sigma_m * height_factor;
+    l.landmark.variance_m2 =
+        scaled * scaled + smear * smear / 12.0 +
+        config_.landmark_noise.floor_sigma_m * config_.landmark_noise.floor_sigma_m;
     pending_.push_back(l);
   }
 }
@@ -436,7 +449,9 @@ bool Drive::step() {
   track_.add(t_, robot_.pose());
   driven_m_ += std::hypot(robot_.pose().x_m - before.x_m, robot_.pose().y_m - before.y_m);
   ekf_->predict(odo);
-  blind_m_ += std::abs(nav::motion_of(odo, config_.robot.wheel_base_m).distance_m);
+  const double travel = std::abs(nav::motion_of(odo, config_.robot.wheel_base_m).distance_m);
+  blind_m_ += travel;
+  odometry_speed_mps_ = travel / dt_;
   exposed_frame_ = -1;
   exposed_status_.clear();
   if (config_.vision) {
@@ -588,6 +603,8 @@ DriveSummary Drive::summary() const {
     const DriveRow& r = rows_.back();
     s.final_position_error_m =
         std::hypot(r.truth.x_m - r.estimate.x_m, r.truth.y_m - r.estimate.y_m);
+    s.final_position_sigma_m = std::hypot(r.sigma_x_m, r.sigma_y_m);
+    s.final_pose_nees = r.pose_nees;
   }
   s.wall_time_s = wall_s_;
   s.realtime_factor = wall_s_ > 0.0 ? t_ / wall_s_ : 0.0;

@@ -40,11 +40,13 @@ struct DriveConfig {
   nav::EkfOptions ekf;              // its mount is set from believed_mount
   nav::FollowerOptions follower;
   host::TapeNoiseModel tape_noise;
-  // Landmark distances (host::detect_junctions): sigma = the kind's + relative
-  // x distance. docs/results.md, "Junctions": tape ends 5-8 mm RMS (15.6 max),
-  // junctions 0.2-1.4 mm RMS (7.2 max); the relative part for the ceiling height.
+  // Landmark distances (host::detect_junctions): the detector's own sigma
+  // (pixel quantisation at the junction) scaled like the distance by the
+  // ceiling's height, the exposure's smear (speed x exposure, uniform: /
+  // sqrt 12; where the threshold cuts a moving end) and a floor for the
+  // map's survey of the point.
   struct LandmarkNoise {
-    double tape_end_sigma_m = 0.008, junction_sigma_m = 0.004, relative_sigma = 0.002;
+    double floor_sigma_m = 0.5e-3;
   } landmark_noise;
   bool landmarks = true;  // false: tape measurements only
   // Pattern station fixes (docs/navigation.md, "Pattern station fixes"): a
@@ -91,8 +93,8 @@ struct DriveConfig {
   // Stop the simulation after this long (0: three times the route at
   // the cruise speed, plus a minute).
   double max_time_s = 0.0;
-  // Initial uncertainty of the start pose (sigmas; the truth starts there
-  // exactly and the filter is told it with these).
+  // Initial uncertainty of the start pose (sigmas): the filter starts at the
+  // course's start with these, the truth at a draw from them (robot.seed).
   double start_sigma_m = 0.002, start_sigma_yaw_rad = 0.001;
 };
 
@@ -158,6 +160,9 @@ struct DriveSummary {
     }
   };
   std::vector<Station> stations;
+  // The filter's position sigma at the end (sqrt of the trace of its xy
+  // covariance) and the end's pose NEES.
+  double final_position_sigma_m = 0.0, final_pose_nees = 0.0;
   double wall_time_s = 0.0, realtime_factor = 0.0;
 };
 
@@ -224,6 +229,7 @@ class Drive {
   int next_frame_ = 0;
   int frames_ = 0, frames_ok_ = 0;
   double blind_m_ = 0.0, driven_m_ = 0.0;
+  double odometry_speed_mps_ = 0.0;  // the last tick's, from the wheels
   std::string exposed_status_;
   int exposed_frame_ = -1;
   bool over_ = false;

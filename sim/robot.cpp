@@ -46,6 +46,8 @@ void validate(const RobotParams& p) {
   require(p.right_scale > 0.0 && std::isfinite(p.right_scale), "right_scale", "must be > 0");
   require(p.slip_sigma_sqrt_m >= 0.0 && std::isfinite(p.slip_sigma_sqrt_m), "slip_sigma_sqrt_m",
           "must be >= 0");
+  require(p.scrub_sigma_sqrt_rad >= 0.0 && std::isfinite(p.scrub_sigma_sqrt_rad),
+          "scrub_sigma_sqrt_rad", "must be >= 0");
   require(p.max_speed_m_s > 0.0, "max_speed_m_s", "must be > 0");
   require(p.max_accel_m_s2 > 0.0, "max_accel_m_s2", "must be > 0");
   require(p.max_yaw_rate_rad_s > 0.0, "max_yaw_rate_rad_s", "must be > 0");
@@ -85,9 +87,19 @@ nav::OdometryStep Robot::step(double dt_s, double v_cmd_m_s, double omega_cmd_ra
   const double right_travel = motion.distance_m + half;
   const double left_slip = p.slip_sigma_sqrt_m * std::sqrt(std::abs(left_travel)) * normal();
   const double right_slip = p.slip_sigma_sqrt_m * std::sqrt(std::abs(right_travel)) * normal();
+  double left_rolled = left_travel - left_slip, right_rolled = right_travel - right_slip;
+  // Scrub: the wheels roll as for a heading change off the true one by w,
+  // of variance scrub^2 times the heading change their rolling gives (what
+  // the odometry sees, so the filter's noise term is computed from the same).
+  if (p.scrub_sigma_sqrt_rad > 0.0 && right_rolled != left_rolled) {
+    const double turned = std::abs(right_rolled - left_rolled) / p.wheel_base_m;
+    const double w = p.scrub_sigma_sqrt_rad * std::sqrt(turned) * normal();
+    left_rolled -= 0.5 * p.wheel_base_m * w;
+    right_rolled += 0.5 * p.wheel_base_m * w;
+  }
   const double counts_per_m_nominal = 1.0 / p.nominal_m_per_count();
-  left_rotation_ += (left_travel - left_slip) / p.left_scale * counts_per_m_nominal;
-  right_rotation_ += (right_travel - right_slip) / p.right_scale * counts_per_m_nominal;
+  left_rotation_ += left_rolled / p.left_scale * counts_per_m_nominal;
+  right_rotation_ += right_rolled / p.right_scale * counts_per_m_nominal;
   const auto left_now = static_cast<int64_t>(std::floor(left_rotation_));
   const auto right_now = static_cast<int64_t>(std::floor(right_rotation_));
   nav::OdometryStep out{t_s_,

@@ -24,6 +24,10 @@ struct RobotParams {
   // over L metres its standard deviation is slip_sigma * sqrt(L)
   // (unit m / sqrt(m)). 0 = no slip.
   double slip_sigma_sqrt_m = 0.004;
+  // Tyre scrub in turns: the heading change the wheels report differs from the
+  // true one by independent increments of variance scrub_sigma^2 per radian
+  // turned (unit rad / sqrt(rad)); the filter's yaw_var_per_rad. 0 = none.
+  double scrub_sigma_sqrt_rad = 0.02;
   // Limits, applied in this order to each command: |v| <= max_speed, then
   // |dv/dt| <= max_accel; |omega| <= max_yaw_rate, then |domega/dt| <=
   // max_yaw_accel.

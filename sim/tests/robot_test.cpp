@@ -21,6 +21,7 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 RobotParams ideal() {
   RobotParams p;
   p.slip_sigma_sqrt_m = 0.0;
+  p.scrub_sigma_sqrt_rad = 0.0;
   p.max_accel_m_s2 = 1e6;
   p.max_yaw_accel_rad_s2 = 1e6;
   return p;
@@ -64,6 +65,7 @@ TEST(Robot, ArcFollowsTheCircle) {
 TEST(Robot, SpeedAccelerationYawRateAndYawAccelerationAreLimited) {
   RobotParams p;
   p.slip_sigma_sqrt_m = 0.0;
+  p.scrub_sigma_sqrt_rad = 0.0;
   p.max_speed_m_s = 0.8;
   p.max_accel_m_s2 = 0.5;
   p.max_yaw_rate_rad_s = 1.0;
@@ -197,6 +199,39 @@ TEST(Robot, SlipDriftMatchesTheRandomWalkModel) {
   EXPECT_NEAR(drift.lateral_sd / lateral, 1.0, 0.15);
 }
 
+TEST(Robot, ScrubMakesTheReportedHeadingChangeARandomWalkPerRadianTurned) {
+  // Pivots of 1 rad without slip: the heading change the encoders report,
+  // (right - left) / b, differs from the true one by a random walk of
+  // variance scrub^2 per radian turned (the filter's yaw_var_per_rad).
+  RobotParams p = ideal();
+  p.scrub_sigma_sqrt_rad = 0.03;
+  p.encoder_counts_per_rev = 1 << 20;  // quantisation far below the scrub
+  const int runs = 800;
+  double ss = 0.0;
+  for (int k = 0; k < runs; ++k) {
+    p.seed = static_cast<uint64_t>(k + 1);
+    Robot robot(p);
+    double reported = 0.0;
+    for (int i = 0; i < 100; ++i) {
+      const nav::OdometryStep s = robot.step(0.01, 0.0, 1.0);
+      reported += (s.right_m - s.left_m) / p.wheel_base_m;
+    }
+    const double e = reported - robot.pose().yaw_rad;  // true: 1 rad
+    ss += e * e;
+  }
+  const double sd = std::sqrt(ss / runs);
+  // 800 runs: the sample sd is within 4 x 2.5 % of the model's.
+  EXPECT_NEAR(sd / p.scrub_sigma_sqrt_rad, 1.0, 0.1);
+  p.scrub_sigma_sqrt_rad = 0.0;
+  Robot exact(p);
+  double reported = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    const nav::OdometryStep s = exact.step(0.01, 0.0, 1.0);
+    reported += (s.right_m - s.left_m) / p.wheel_base_m;
+  }
+  EXPECT_NEAR(reported, exact.pose().yaw_rad, 1e-4);
+}
+
 TEST(Robot, TypicalSettingDriftsAboutTwoPercentOfDistanceAsSeed004) {
   // Seed 004 models the odometric position uncertainty as 2.012e-2 d. The
   // default robot (slip 0.004 m / sqrt(m), b = 0.4 m) over d = 5 m, the
@@ -235,6 +270,9 @@ TEST(Robot, RejectsBadParametersAndSteps) {
   EXPECT_THROW(Robot{p}, std::invalid_argument);
   p = {};
   p.slip_sigma_sqrt_m = -1.0;
+  EXPECT_THROW(Robot{p}, std::invalid_argument);
+  p = {};
+  p.scrub_sigma_sqrt_rad = -0.1;
   EXPECT_THROW(Robot{p}, std::invalid_argument);
   Robot robot{RobotParams{}};
   EXPECT_THROW(robot.step(0.0, 1.0, 0.0), std::invalid_argument);
