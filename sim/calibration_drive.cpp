@@ -113,8 +113,10 @@ CalibrationDriveResult calibration_drive(const CalibrationDriveConfig& config) {
     const double t0 = index / config.frame_rate_hz;
     const double tm = t0 + 0.5 * config.exposure_s;
     const PoseAt pose_at = [&track](double ts) { return track.at(ts); };
-    const cv::Mat frame = render_drive_frame(camera, config.course, config.mount, pose_at, t0,
-                                             config.exposure_s, config.render);
+    DriveRenderParams rp = config.render;
+    rp.frame_index = index;  // each frame its own noise
+    const cv::Mat frame =
+        render_drive_frame(camera, config.course, config.mount, pose_at, t0, config.exposure_s, rp);
     const host::FrameOutcome out = navigator.process(frame);
     const host::TapePose& pose =
         out.zenith && out.zenith->status == host::Status::ok ? *out.zenith : out.pose;

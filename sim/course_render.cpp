@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <stdexcept>
 
 #include "golden/scene.hpp"
@@ -269,9 +270,50 @@ cv::Mat render_drive_float(const host::CameraConfig& camera, const Course& cours
     local.pattern_pixels += covered;
   }
   if (k_count > 1) sum *= 1.0 / k_count;
-  golden::finish_render(sum, params.render);
+  if (params.frame_index >= 0) {
+    golden::RenderParams quiet = params.render;
+    quiet.noise_sigma_grey = 0.0;
+    golden::finish_render(sum, quiet);
+    add_frame_noise(sum, params.render.noise_sigma_grey, params.render.noise_seed,
+                    params.frame_index);
+  } else {
+    golden::finish_render(sum, params.render);
+  }
   if (info != nullptr) *info = local;
   return sum;
+}
+
+void add_frame_noise(cv::Mat& image, double sigma_grey, uint64_t seed, int64_t frame) {
+  if (image.type() != CV_64FC1) throw std::invalid_argument("add_frame_noise: needs CV_64FC1");
+  if (!(sigma_grey >= 0.0) || !std::isfinite(sigma_grey))
+    throw std::invalid_argument("add_frame_noise: sigma must be finite and >= 0");
+  if (sigma_grey == 0.0) return;
+  constexpr uint64_t kPool = uint64_t{1} << 20;
+  static const std::vector<double> pool = [] {
+    std::vector<double> p(kPool);
+    std::mt19937_64 rng(1);
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (double& v : p) v = n(rng);
+    return p;
+  }();
+  // splitmix64 of (seed, frame): an offset and an odd stride.
+  const auto mix = [](uint64_t z) {
+    z += 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  };
+  const uint64_t h1 = mix(seed ^ mix(static_cast<uint64_t>(frame)));
+  const uint64_t h2 = mix(h1);
+  uint64_t at = h1 & (kPool - 1);
+  const uint64_t stride = (h2 & (kPool - 1)) | 1u;
+  for (int j = 0; j < image.rows; ++j) {
+    double* row = image.ptr<double>(j);
+    for (int i = 0; i < image.cols; ++i) {
+      row[i] += sigma_grey * pool[at];
+      at = (at + stride) & (kPool - 1);
+    }
+  }
 }
 
 cv::Mat render_drive_frame(const host::CameraConfig& camera, const Course& course,

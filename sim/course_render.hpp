@@ -45,7 +45,22 @@ struct DriveRenderParams {
   golden::pattern::PatternGeometry pattern_geometry;
   golden::pattern::Radiometry pattern_radiometry;
   int pattern_supersample = 4;
+  // >= 0: the frame's noise is drawn for this frame of a drive (its own
+  // field, a resampling of a pool of normal deviates; see frame_noise),
+  // instead of golden's noise field of render.noise_seed, which is the same
+  // field for every frame of that seed. -1: golden's.
+  int64_t frame_index = -1;
 };
+
+// Adds zero-mean Gaussian noise of sigma_grey to a CV_64FC1 image: the
+// frame's own field for (seed, frame): pool[(offset + k stride) mod 2^20]
+// for pixel k, with a pool of 2^20 standard normal deviates drawn once
+// (std::normal_distribution on mt19937_64 seeded 1) and the offset and an
+// odd stride hashed from (seed, frame). Within a frame of up to 2^20 pixels
+// the deviates are distinct draws; frames get different subsets in
+// different orders. A closed-loop drive renders tens of thousands of frames:
+// golden's exact per-pixel Box-Muller would be two thirds of a frame's cost.
+void add_frame_noise(cv::Mat& image, double sigma_grey, uint64_t seed, int64_t frame);
 
 struct DriveFrameInfo {
   int subexposures = 0;

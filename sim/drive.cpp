@@ -140,8 +140,12 @@ Drive::Drive(const DriveConfig& config)
   navigator_ = std::make_unique<host::Navigator>(
       config_.camera, drivers::make_device(config_.device), config_.navigator);
   stations_ = config_.station_map ? *config_.station_map : config_.course.patterns;
-  if (config_.station_fixes.enabled && !stations_.empty())
+  if (config_.station_fixes.enabled && !stations_.empty()) {
     pattern_device_ = std::make_unique<drivers::Device>(config_.device);
+    // The full-resolution sensor's model, built once (its undistortion
+    // tables cost what a few frames do).
+    sensor_model_ = std::make_unique<host::CameraModel>(sensor_camera());
+  }
   track_.add(0.0, robot_.pose());
   t_end_ = config_.max_time_s > 0.0
                ? config_.max_time_s
@@ -170,7 +174,7 @@ std::optional<Drive::StationView> Drive::station_in_view() const {
   const golden::CameraView view =
       camera_view(config_.camera, believed(config_.believed_mount), ekf_->pose());
   const host::CameraConfig sensor = sensor_camera();
-  const host::CameraModel model(sensor);
+  const host::CameraModel& model = *sensor_model_;
   const double half_w = std::abs(golden::pattern::block_outer_x_m(g)) + g.plate_margin_m;
   const double half_h = 0.5 * g.bar_height_m + g.plate_margin_m;
   const double m = config_.station_fixes.margin_px * config_.station_fixes.window_scale;
@@ -371,8 +375,10 @@ void Drive::analyse_station(int index, const StationView& sv, double t0, double 
 void Drive::expose_frame(int index, double t0) {
   const PoseTrack& track = track_;
   const PoseAt pose_at = [&track](double t) { return track.at(t); };
+  DriveRenderParams rp = config_.render;
+  rp.frame_index = index;  // each frame its own noise
   const cv::Mat frame = render_drive_frame(config_.camera, config_.course, config_.mount, pose_at,
-                                           t0, config_.exposure_s, config_.render);
+                                           t0, config_.exposure_s, rp);
   const host::FrameOutcome out = navigator_->process(frame);
   if (const std::optional<StationView> sv = station_in_view())
     analyse_station(index, *sv, t0, frame_latency_s(out));

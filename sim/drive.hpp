@@ -222,6 +222,7 @@ class Drive {
   std::unique_ptr<host::Navigator> navigator_;
   std::vector<PatternStation> stations_;  // the map's
   std::unique_ptr<drivers::Device> pattern_device_;
+  std::unique_ptr<host::CameraModel> sensor_model_;
   std::vector<PatternFixRecord> pattern_records_;
   std::vector<Pending> pending_;
   std::vector<DriveRow> rows_;

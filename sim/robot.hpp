@@ -26,8 +26,10 @@ struct RobotParams {
   double slip_sigma_sqrt_m = 0.004;
   // Tyre scrub in turns: the heading change the wheels report differs from the
   // true one by independent increments of variance scrub_sigma^2 per radian
-  // turned (unit rad / sqrt(rad)); the filter's yaw_var_per_rad. 0 = none.
-  double scrub_sigma_sqrt_rad = 0.02;
+  // the wheels' rolling turns (unit rad / sqrt(rad)); the filter's
+  // yaw_var_per_rad. 0 = none (the default: see docs/navigation.md, "Robot",
+  // on the slip's phantom turning at 100 Hz).
+  double scrub_sigma_sqrt_rad = 0.0;
   // Limits, applied in this order to each command: |v| <= max_speed, then
   // |dv/dt| <= max_accel; |omega| <= max_yaw_rate, then |domega/dt| <=
   // max_yaw_accel.

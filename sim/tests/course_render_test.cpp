@@ -317,3 +317,35 @@ TEST(PoseTrack, InterpolatesAndHolds) {
 
 }  // namespace
 }  // namespace ceilnav::sim
+
+namespace ceilnav::sim {
+namespace {
+
+TEST(FrameNoise, EachFrameItsOwnFieldOfTheRightSigmaReproducibly) {
+  const auto field = [](uint64_t seed, int64_t frame) {
+    cv::Mat m(240, 320, CV_64FC1, cv::Scalar(0.0));
+    add_frame_noise(m, 2.0, seed, frame);
+    return m;
+  };
+  const cv::Mat a = field(1, 0), b = field(1, 1), c = field(2, 0);
+  EXPECT_EQ(cv::norm(a, field(1, 0), cv::NORM_INF), 0.0);  // reproducible
+  cv::Scalar mean, sd;
+  cv::meanStdDev(a, mean, sd);
+  // 76,800 draws: the mean within 4 x 2/sqrt(n) = 0.029, the sd within 1 %.
+  EXPECT_NEAR(mean[0], 0.0, 0.03);
+  EXPECT_NEAR(sd[0], 2.0, 0.02);
+  // Another frame, another seed: uncorrelated fields (|r| < 4 / sqrt(n)).
+  for (const cv::Mat* o : {&b, &c}) {
+    const double r = a.dot(*o) / (cv::norm(a) * cv::norm(*o));
+    EXPECT_LT(std::abs(r), 0.015);
+  }
+  // Neighbouring pixels uncorrelated too.
+  const double r1 = a.colRange(0, 319).dot(a.colRange(1, 320)) /
+                    (cv::norm(a.colRange(0, 319)) * cv::norm(a.colRange(1, 320)));
+  EXPECT_LT(std::abs(r1), 0.015);
+  cv::Mat bad(2, 2, CV_8UC1);
+  EXPECT_THROW(add_frame_noise(bad, 1.0, 1, 0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ceilnav::sim
