@@ -333,11 +333,12 @@ int run_drive(const DriveOptions& o) {
       s.junctions_planned, s.gaps_crossed, s.gaps_on_route, 100.0 * s.nees_in_band,
       s.realtime_factor);
   for (const sim::DriveSummary::Station& st : s.stations) {
-    std::printf(
-        "station %d: %d frames analysed, %d fixes ok, %d accepted; position error %.2f mm before, "
-        "%.2f mm after\n",
-        st.id, st.frames_analysed, st.fixes_ok, st.fixes_accepted, st.error_before_m * 1e3,
-        st.error_after_m * 1e3);
+    const std::string errors = st.fixes_accepted > 0
+                                   ? fmt::format("position error {:.2f} mm before, {:.2f} mm after",
+                                                 st.error_before_m * 1e3, st.error_after_m * 1e3)
+                                   : std::string("no accepted fix");
+    std::printf("station %d: %d frames analysed, %d fixes ok, %d accepted; %s\n", st.id,
+                st.frames_analysed, st.fixes_ok, st.fixes_accepted, errors.c_str());
   }
   return j["goals_met"].get<bool>() || !o.require ? 0 : 1;
 }
