@@ -72,6 +72,20 @@ CameraMount believed(const nav::CameraMount& m) {
   return c;
 }
 
+// The Navigator's view of the drive's device, which the stations' windows
+// also use.
+class SharedDevice : public host::FrameProcessor {
+ public:
+  explicit SharedDevice(drivers::Device& device) : device_(device) {}
+  stream::FrameResults process(const cv::Mat& grey, const stream::PipelineConfig& cfg,
+                               std::vector<stream::RunRecord>& runs, uint64_t& cycles) override {
+    return device_.process(grey, cfg, runs, cycles);
+  }
+
+ private:
+  drivers::Device& device_;
+};
+
 // The true start: the course's start pose plus a draw from the start sigmas
 // the filter is told (so its initial covariance is a real one).
 nav::Pose2 true_start(const DriveConfig& c) {
@@ -137,11 +151,14 @@ Drive::Drive(const DriveConfig& config)
       config_.start_sigma_m * config_.start_sigma_m;
   p0(nav::state::yaw, nav::state::yaw) = config_.start_sigma_yaw_rad * config_.start_sigma_yaw_rad;
   ekf_ = std::make_unique<nav::Ekf>(eo, &map_, 0.0, x0, p0);
+  // One device for the tape frames and the stations' windows (one Verilated
+  // top on the rtl backend; a second top in the process stalls its start).
+  device_ = std::make_unique<drivers::Device>(config_.device);
   navigator_ = std::make_unique<host::Navigator>(
-      config_.camera, drivers::make_device(config_.device), config_.navigator);
+      config_.camera, std::make_unique<SharedDevice>(*device_), config_.navigator);
   stations_ = config_.station_map ? *config_.station_map : config_.course.patterns;
   if (config_.station_fixes.enabled && !stations_.empty()) {
-    pattern_device_ = std::make_unique<drivers::Device>(config_.device);
+    pattern_device_ = device_.get();
     // The full-resolution sensor's model, built once (its undistortion
     // tables cost what a few frames do).
     sensor_model_ = std::make_unique<host::CameraModel>(sensor_camera());

@@ -219,9 +219,10 @@ class Drive {
   nav::TapeMap map_;
   std::unique_ptr<nav::Ekf> ekf_;
   nav::PathFollower follower_;
+  std::unique_ptr<drivers::Device> device_;  // the Navigator's and the stations'
   std::unique_ptr<host::Navigator> navigator_;
-  std::vector<PatternStation> stations_;  // the map's
-  std::unique_ptr<drivers::Device> pattern_device_;
+  std::vector<PatternStation> stations_;       // the map's
+  drivers::Device* pattern_device_ = nullptr;  // device_ when stations are analysed
   std::unique_ptr<host::CameraModel> sensor_model_;
   std::vector<PatternFixRecord> pattern_records_;
   std::vector<Pending> pending_;

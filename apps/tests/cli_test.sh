@@ -608,6 +608,26 @@ if $CEILNAV drive --course "$work/cl/short.yaml" --out "$dd" --quiet >"$work/cl/
 else
   bad "drive short course" "$(tail -3 "$work/cl/log.txt")"
 fi
+# The same second of the drive with a pattern station on the course on every
+# backend compared: the trajectory (truth, estimate, frame statuses) is the
+# fast backend's, byte for byte (the device's passes set the latency).
+sed 's/^route: \[left\]/patterns: [{id: 7, x_m: 3, y_m: 1.2, yaw_rad: 0}]\nroute: [left]/' \
+  "$work/cl/short.yaml" >"$work/cl/station.yaml"
+if $CEILNAV drive --course "$work/cl/station.yaml" --out "$work/cl/bfast" --quiet --no-plot \
+  --max-time 1 >/dev/null 2>&1 && grep -q '"fixes_accepted": [1-9]' "$work/cl/bfast/summary.json"; then
+  ok "drive fixes a station within its first second"
+else
+  bad "drive fixes a station within its first second"
+fi
+for b in $CLI_BACKENDS; do
+  if $CEILNAV drive --course "$work/cl/station.yaml" --out "$work/cl/b$b" --quiet --no-plot --max-time 1 \
+    --backend "$b" >/dev/null 2>&1 && grep -q "\"backend\": \"$b\"" "$work/cl/b$b/summary.json" &&
+    cmp -s "$work/cl/bfast/trajectory.csv" "$work/cl/b$b/trajectory.csv"; then
+    ok "drive on $b drives the fast backend's trajectory"
+  else
+    bad "drive on $b drives the fast backend's trajectory"
+  fi
+done
 # Dead reckoning on purpose: the robot drives the route to its end without
 # vision (not stopped as lost), and the summary judges the end's error by the
 # filter's own covariance.
