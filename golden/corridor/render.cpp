@@ -34,9 +34,15 @@ struct Family {
   Paint paint;
 };
 
+// floor(v) for |v| < 2^62 without a library call.
+long floor_long(double v) {
+  const auto k = static_cast<long>(v);
+  return static_cast<double>(k) > v ? k - 1 : k;
+}
+
 // The index of the rectangle whose interval holds c, or nothing.
 bool interval_index(double c, double lo, double hi, double p, long k0, long k1, long& k) {
-  k = static_cast<long>(std::floor((c - lo) / p));
+  k = floor_long((c - lo) / p);
   if (k < k0 || k > k1) return false;
   const double shift = static_cast<double>(k) * p;
   return c >= lo + shift && c <= hi + shift;
@@ -44,8 +50,8 @@ bool interval_index(double c, double lo, double hi, double p, long k0, long k1, 
 
 // Whether some rectangle's interval meets [c0, c1].
 bool interval_overlaps(double c0, double c1, double lo, double hi, double p, long k0, long k1) {
-  const long first = std::max(k0, static_cast<long>(std::ceil((c0 - hi) / p)));
-  const long last = std::min(k1, static_cast<long>(std::floor((c1 - lo) / p)));
+  const long first = std::max(k0, -floor_long((hi - c0) / p));  // ceil((c0 - hi) / p)
+  const long last = std::min(k1, floor_long((c1 - lo) / p));
   return first <= last;
 }
 
@@ -70,7 +76,7 @@ struct Scene {
   // The face the ray (x, y, 1) (camera axes) meets: the camera is inside the
   // box, so exactly one (the nearest plane it rises, falls or runs towards).
   Hit hit(double x, double y) const {
-    const Eigen::Vector3d d = to_world * Eigen::Vector3d(x, y, 1.0);
+    const Eigen::Vector3d d = to_world.col(0) * x + to_world.col(1) * y + to_world.col(2);
     double t = std::numeric_limits<double>::infinity();
     int face = kCeiling;
     auto consider = [&](double tt, int f) {
@@ -300,50 +306,122 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const Corridor& corrid
   std::vector<double> ja(cells), jb(cells);
   RenderStats local;
   cv::Mat radiance(h, w, CV_64FC1, cv::Scalar(0.0));
-  for (int j = 0; j < h; ++j) {
-    double* out = radiance.ptr<double>(j);
-    for (int i = 0; i < w; ++i) {
-      const std::size_t k =
-          static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i);
-      const PixelRay& ray = (*rays)[k];
-      if (!ray.valid) continue;  // where the lens model folds over: 0, as the tape renderer
+
+  // The value of a pixel whose footprint lies on one face in one paint. The
+  // ceiling's and floor's light is constant; on the walls it varies smoothly
+  // and (2 centre + mean of the corners) / 3 integrates a quadratic over the
+  // footprint exactly (a 2-D Simpson rule from the corner hits).
+  auto uniform_value = [&](const Paint& paint, int face, const PixelRay& ray,
+                           const std::array<Hit, 4>* corners) {
+    if (paint.emissive) return paint.value;
+    if (face == kCeiling || face == kFloor) return paint.value * scene.light_at({face, 0.0, 0.0});
+    std::array<Hit, 4> own{};
+    if (corners == nullptr) {
+      for (std::size_t q = 0; q < 4; ++q) {
+        const double a = static_cast<double>(q & 1U) - 0.5, b = static_cast<double>(q >> 1U) - 0.5;
+        own[q] = scene.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b);
+      }
+      corners = &own;
+    }
+    const std::array<Hit, 4>& c4 = *corners;
+    const double corners_light = 0.25 * (scene.light_at(c4[0]) + scene.light_at(c4[1]) +
+                                         scene.light_at(c4[2]) + scene.light_at(c4[3]));
+    return paint.value * (2.0 * scene.light_at(scene.hit(ray.x, ray.y)) + corners_light) / 3.0;
+  };
+
+  auto render_pixel = [&](int i, int j, double* out) {
+    const std::size_t k =
+        static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i);
+    const PixelRay& ray = (*rays)[k];
+    if (!ray.valid) return;  // where the lens model folds over: 0, as the tape renderer
+    if (params.adaptive_sampling) {
+      std::array<Hit, 4> corners{};
+      bool one_face = true;
+      for (std::size_t q = 0; q < 4; ++q) {
+        const double a = static_cast<double>(q & 1U) - 0.5, b = static_cast<double>(q >> 1U) - 0.5;
+        corners[q] =
+            scene.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b);
+        one_face = one_face && corners[q].face == corners[0].face;
+      }
+      const Paint* paint = one_face ? scene.uniform_paint(corners) : nullptr;
+      if (paint != nullptr) {
+        out[i] = uniform_value(*paint, corners[0].face, ray, &corners);
+        ++local.uniform_pixels;
+        ++local.samples;
+        return;
+      }
+    }
+    jittered_offsets(k, n, ja.data(), jb.data());
+    double sum = 0.0;
+    for (std::size_t m = 0; m < cells; ++m) {
+      sum += scene.radiance(scene.hit(ray.x + ray.j00 * ja[m] + ray.j01 * jb[m],
+                                      ray.y + ray.j10 * ja[m] + ray.j11 * jb[m]));
+    }
+    out[i] = sum / static_cast<double>(cells);
+    ++local.edge_pixels;
+    local.samples += static_cast<int64_t>(cells);
+  };
+
+  // Tiles of kTile x kTile pixels: the box (in normalised coordinates) of
+  // every footprint corner ray of the tile's pixels is convex, so when its
+  // four corner rays meet one face all its rays do, and their hits lie in the
+  // convex quadrilateral of the corners' hits; when one paint covers that
+  // (uniform_paint), every pixel of the tile is a uniform pixel of that paint
+  // (its own classification would find the same), valued as render_pixel
+  // values it, without the per-pixel classification.
+  constexpr int kTile = 8;
+  for (int j0 = 0; j0 < h; j0 += kTile) {
+    const int j1 = std::min(h, j0 + kTile);
+    for (int i0 = 0; i0 < w; i0 += kTile) {
+      const int i1 = std::min(w, i0 + kTile);
+      const Paint* tile_paint = nullptr;
+      int tile_face = 0;
       if (params.adaptive_sampling) {
-        std::array<Hit, 4> corners{};
-        bool one_face = true;
-        for (std::size_t q = 0; q < 4; ++q) {
-          const double a = static_cast<double>(q & 1U) - 0.5,
-                       b = static_cast<double>(q >> 1U) - 0.5;
-          corners[q] =
-              scene.hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b);
-          one_face = one_face && corners[q].face == corners[0].face;
-        }
-        const Paint* paint = one_face ? scene.uniform_paint(corners) : nullptr;
-        if (paint != nullptr) {
-          // The light is smooth over the footprint: (2 centre + mean of the
-          // corners) / 3 integrates a quadratic exactly (a 2-D Simpson rule
-          // from the corner hits the classification made anyway).
-          double value = paint->value;
-          if (!paint->emissive) {
-            const double corners_light =
-                0.25 * (scene.light_at(corners[0]) + scene.light_at(corners[1]) +
-                        scene.light_at(corners[2]) + scene.light_at(corners[3]));
-            value *= (2.0 * scene.light_at(scene.hit(ray.x, ray.y)) + corners_light) / 3.0;
+        double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+        bool valid = true;
+        for (int j = j0; j < j1 && valid; ++j) {
+          for (int i = i0; i < i1; ++i) {
+            const PixelRay& ray =
+                (*rays)[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) +
+                        static_cast<std::size_t>(i)];
+            if (!ray.valid) {
+              valid = false;
+              break;
+            }
+            // The footprint corners x + J (+-1/2, +-1/2) lie in this box,
+            // widened by far more than the rounding of either computation.
+            const double rx = 0.5 * (std::abs(ray.j00) + std::abs(ray.j01)) * (1.0 + 1e-9);
+            const double ry = 0.5 * (std::abs(ray.j10) + std::abs(ray.j11)) * (1.0 + 1e-9);
+            x0 = std::min(x0, ray.x - rx);
+            x1 = std::max(x1, ray.x + rx);
+            y0 = std::min(y0, ray.y - ry);
+            y1 = std::max(y1, ray.y + ry);
           }
-          out[i] = value;
+        }
+        if (valid) {
+          const std::array<Hit, 4> corners{scene.hit(x0, y0), scene.hit(x1, y0), scene.hit(x0, y1),
+                                           scene.hit(x1, y1)};
+          if (corners[0].face == corners[1].face && corners[0].face == corners[2].face &&
+              corners[0].face == corners[3].face) {
+            tile_paint = scene.uniform_paint(corners);
+            tile_face = corners[0].face;
+          }
+        }
+      }
+      for (int j = j0; j < j1; ++j) {
+        double* out = radiance.ptr<double>(j);
+        for (int i = i0; i < i1; ++i) {
+          if (tile_paint == nullptr) {
+            render_pixel(i, j, out);
+            continue;
+          }
+          const PixelRay& ray = (*rays)[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) +
+                                        static_cast<std::size_t>(i)];
+          out[i] = uniform_value(*tile_paint, tile_face, ray, nullptr);
           ++local.uniform_pixels;
           ++local.samples;
-          continue;
         }
       }
-      jittered_offsets(k, n, ja.data(), jb.data());
-      double sum = 0.0;
-      for (std::size_t m = 0; m < cells; ++m) {
-        sum += scene.radiance(scene.hit(ray.x + ray.j00 * ja[m] + ray.j01 * jb[m],
-                                        ray.y + ray.j10 * ja[m] + ray.j11 * jb[m]));
-      }
-      out[i] = sum / static_cast<double>(cells);
-      ++local.edge_pixels;
-      local.samples += static_cast<int64_t>(cells);
     }
   }
   if (stats != nullptr) *stats = local;
