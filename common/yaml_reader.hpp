@@ -1,4 +1,4 @@
-// Typed reading of world files (courses, corridors: OpenCV-FileStorage-style
+// Typed reading and atomic writing of world files (courses, corridors: OpenCV-FileStorage-style
 // YAML, or JSON read as YAML) with yaml-cpp: every problem is thrown as an
 // `Error` (constructed from a std::string) whose message names the source
 // file, the key path (e.g. "tapes[2].gaps[0]") and what is wrong. Include only
@@ -9,10 +9,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <initializer_list>
 #include <string>
+#include <system_error>
 
 namespace ceilnav {
 
@@ -33,6 +38,32 @@ inline std::string yaml_number_text(double v) {
   std::array<char, 32> buf{};
   const auto res = std::to_chars(buf.data(), buf.data() + buf.size(), v);
   return {buf.data(), res.ptr};
+}
+
+// Writes `text` to "<path>.tmp" and renames it to `path`, so a failure
+// leaves no partial file; throws Error naming the path.
+template <class Error>
+void write_world_file(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::out | std::ios::trunc);
+    if (!out) throw Error(path + ": cannot open for writing: " + std::strerror(errno));
+    out << text;
+    out.flush();
+    if (!out) {
+      out.close();
+      std::error_code ignored;
+      std::filesystem::remove(tmp, ignored);
+      throw Error(path + ": writing failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw Error(path + ": cannot rename the temporary file: " + ec.message());
+  }
 }
 
 template <class Error>

@@ -178,26 +178,7 @@ Course read_course(const YAML::Node& root, const std::string& source) {
 }
 
 void write_file(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::out | std::ios::trunc);
-    if (!out) throw CourseError(path + ": cannot open for writing: " + std::strerror(errno));
-    out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      throw CourseError(path + ": writing failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw CourseError(path + ": cannot rename the temporary file: " + ec.message());
-  }
+  write_world_file<CourseError>(path, text);
 }
 
 // ---------------------------------------------------------------------------

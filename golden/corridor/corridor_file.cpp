@@ -4,11 +4,9 @@
 
 #include <cerrno>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
-#include <system_error>
 
 #include "common/yaml_reader.hpp"
 
@@ -260,27 +258,7 @@ std::string corridor_to_yaml(const CorridorFile& file) {
 void save_corridor(const CorridorFile& file, const std::string& path) {
   validate(file.corridor, path);
   if (file.camera) validate(*file.camera, file.corridor, path);
-  const std::string text = corridor_to_yaml(file);
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::out | std::ios::trunc);
-    if (!out) throw CorridorError(tmp + ": cannot open for writing: " + std::strerror(errno));
-    out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      throw CorridorError(tmp + ": writing failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw CorridorError(path + ": cannot rename the temporary file: " + ec.message());
-  }
+  write_world_file<CorridorError>(path, corridor_to_yaml(file));
 }
 
 }  // namespace ceilnav::golden::corridor

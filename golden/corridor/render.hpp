@@ -32,7 +32,7 @@ struct RenderParams {
 struct RenderStats {
   int64_t uniform_pixels = 0;  // footprint on one face in one paint: centre + corner rays
   int64_t edge_pixels = 0;     // N x N samples
-  int64_t samples = 0;         // ray casts for the value (corner rays not counted)
+  int64_t samples = 0;         // 1 per uniform pixel + N x N per edge pixel
 };
 
 // The radiance (albedo x light, or a lamp's radiance) per pixel, CV_64FC1,
