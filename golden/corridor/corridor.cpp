@@ -186,6 +186,8 @@ const char* line_kind_name(LineKind kind) {
       return "skirting_edge";
     case LineKind::floor_junction:
       return "floor_junction";
+    case LineKind::door_top:
+      return "door_top";
   }
   return "?";
 }
@@ -356,6 +358,23 @@ std::vector<AxisLine> axis_lines(const Corridor& c) {
                    {0.0, side == 0 ? half : -half, 0.0},
                    x0,
                    x1});
+  }
+  for (std::size_t i = 0; i < c.doors.size(); ++i) {
+    const Door& d = c.doors[i];
+    const double y = d.wall == Wall::left ? half : -half;
+    const double fw = d.frame_width_m;
+    if (fw > 0.0) {
+      out.push_back({LineKind::door_top,
+                     at("door", i) + ".frame_top",
+                     {0.0, y, d.height_m + fw},
+                     d.x_m - fw,
+                     d.x_m + d.width_m + fw});
+    }
+    out.push_back({LineKind::door_top,
+                   at("door", i) + ".top",
+                   {0.0, y, d.height_m},
+                   d.x_m,
+                   d.x_m + d.width_m});
   }
   return out;
 }

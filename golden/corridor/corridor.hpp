@@ -142,6 +142,7 @@ enum class LineKind {
   cornice_edge,    // lower edge of the cornice on a wall
   skirting_edge,   // upper edge of the skirting on a wall
   floor_junction,  // wall-floor junction
+  door_top,        // a door's top edge, or its frame's, on a side wall (over the door only)
 };
 const char* line_kind_name(LineKind kind);
 
@@ -153,7 +154,9 @@ struct AxisLine {
   bool operator==(const AxisLine&) const = default;
 };
 // Every line along the axis the corridor has, in a fixed order (lamp rows,
-// seams, junctions, cornice, skirting, floor junctions).
+// seams, junctions, cornice, skirting, floor junctions, door tops). The
+// skirting's edge is cut where a door's leaf or frame covers it; its extent
+// is still the corridor's.
 std::vector<AxisLine> axis_lines(const Corridor& corridor);
 
 // The image of a line on the undistorted image, in pixels, in the normal
