@@ -115,6 +115,17 @@ Eigen::Matrix3d world_to_camera_rotation(double yaw_rad, double pitch_rad) {
   return r;
 }
 
+Eigen::Matrix3d world_to_camera_rotation(double yaw_rad, double pitch_rad, double roll_rad) {
+  Eigen::Matrix3d r = world_to_camera_rotation(yaw_rad, pitch_rad);
+  if (roll_rad != 0.0) {
+    const double cr = std::cos(roll_rad), sr = std::sin(roll_rad);
+    Eigen::Matrix3d roll;
+    roll << cr, sr, 0.0, -sr, cr, 0.0, 0.0, 0.0, 1.0;
+    r = roll * r;
+  }
+  return r;
+}
+
 Eigen::Vector2d distort_normalised(const host::CameraConfig& camera, const Eigen::Vector2d& xy) {
   const auto& k = camera.distortion_coefficients;
   const double x = xy.x(), y = xy.y();

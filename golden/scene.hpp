@@ -107,6 +107,11 @@ Eigen::Vector3d camera_centre(const host::CameraConfig& camera, const CameraPose
 //   f = (cos(pitch) cos psi, cos(pitch) sin psi, sin(pitch))
 // X_cam = R (X_world - C).
 Eigen::Matrix3d world_to_camera_rotation(double yaw_rad, double pitch_rad);
+// The same camera rolled about its optical axis by roll_rad: M(roll) R(yaw,
+// pitch), M(roll) = [c s 0; -s c 0; 0 0 1]. Positive roll turns the camera's
+// x axis toward its y axis, so the image content turns counter-clockwise on
+// the screen (v down). roll_rad = 0 gives exactly the two-angle rotation.
+Eigen::Matrix3d world_to_camera_rotation(double yaw_rad, double pitch_rad, double roll_rad);
 
 // OpenCV's distortion model (k1, k2, p1, p2, k3) on normalised coordinates.
 Eigen::Vector2d distort_normalised(const host::CameraConfig& camera, const Eigen::Vector2d& xy);

@@ -18,6 +18,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "common/yaml_reader.hpp"
 #include "golden/pattern/pattern.hpp"
 
 namespace ceilnav::sim {
@@ -45,84 +46,35 @@ double heading(const Point2& from, const Point2& to) {
 // Reading.
 
 [[noreturn]] void fail(const std::string& source, const std::string& key, const std::string& what) {
-  throw CourseError(source + ": " + (key.empty() ? std::string() : key + ": ") + what);
+  yaml_fail<CourseError>(source, key, what);
 }
 
-struct Reader {
-  std::string source;
-
-  void keys(const YAML::Node& map, const std::string& key,
-            std::initializer_list<const char*> allowed,
-            std::initializer_list<const char*> required) const {
-    if (!map.IsMap()) fail(source, key, "must be a map");
-    for (const auto& kv : map) {
-      const std::string name = kv.first.IsScalar() ? kv.first.Scalar() : std::string("?");
-      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return name == a; })) {
-        fail(source, key.empty() ? name : key + "." + name, "unknown key");
-      }
-    }
-    for (const char* r : required) {
-      if (!map[r]) fail(source, key.empty() ? r : key + "." + r, "missing");
-    }
-  }
-
-  double number(const YAML::Node& node, const std::string& key) const {
-    if (!node || !node.IsScalar()) fail(source, key, "must be a number");
-    double value = 0.0;
-    try {
-      value = node.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(source, key, "'" + node.Scalar() + "' is not a number");
-    }
-    if (!std::isfinite(value)) fail(source, key, "must be finite");
-    return value;
-  }
-
-  int integer(const YAML::Node& node, const std::string& key) const {
-    if (!node || !node.IsScalar()) fail(source, key, "must be an integer");
-    try {
-      return node.as<int>();
-    } catch (const YAML::Exception&) {
-      fail(source, key, "'" + node.Scalar() + "' is not an integer");
-    }
-  }
-
-  std::string text(const YAML::Node& node, const std::string& key) const {
-    if (!node || !node.IsScalar()) fail(source, key, "must be a string");
-    return node.Scalar();
-  }
-
-  YAML::Node sequence(const YAML::Node& node, const std::string& key) const {
-    if (!node.IsSequence()) fail(source, key, "must be a sequence");
-    return node;
-  }
-
+// The shared typed reader (common/yaml_reader.hpp) and the course's own
+// shapes: a point [x, y] and a yaw in radians or degrees.
+struct Reader : YamlReader<CourseError> {
   Point2 point(const YAML::Node& node, const std::string& key) const {
-    if (!node.IsSequence() || node.size() != 2) fail(source, key, "must be [x, y]");
+    if (!node.IsSequence() || node.size() != 2) fail(key, "must be [x, y]");
     return {number(node[0], key + "[0]"), number(node[1], key + "[1]")};
   }
 
   double yaw(const YAML::Node& map, const std::string& key) const {
     const bool rad = static_cast<bool>(map["yaw_rad"]), deg = static_cast<bool>(map["yaw_deg"]);
-    if (rad == deg) fail(source, key, "needs exactly one of yaw_rad and yaw_deg");
+    if (rad == deg) fail(key, "needs exactly one of yaw_rad and yaw_deg");
     return rad ? number(map["yaw_rad"], key + ".yaw_rad")
                : number(map["yaw_deg"], key + ".yaw_deg") * kDeg;
   }
 };
 
-// The shortest text that reads back as the same double.
 std::string num(double v) {
-  std::array<char, 32> buf{};
-  const auto res = std::to_chars(buf.data(), buf.data() + buf.size(), v);
-  return {buf.data(), res.ptr};
+  return yaml_number_text(v);
 }
 
 std::string at(const std::string& key, std::size_t i) {
-  return key + "[" + std::to_string(i) + "]";
+  return yaml_at(key, i);
 }
 
 Course read_course(const YAML::Node& root, const std::string& source) {
-  const Reader r{source};
+  const Reader r{{source}};
   r.keys(root, "", {"format", "version", "name", "ceiling", "tapes", "patterns", "start", "route"},
          {"format", "version", "ceiling", "tapes", "start"});
   if (r.text(root["format"], "format") != "ceilnav_course") {
@@ -226,26 +178,7 @@ Course read_course(const YAML::Node& root, const std::string& source) {
 }
 
 void write_file(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::out | std::ios::trunc);
-    if (!out) throw CourseError(path + ": cannot open for writing: " + std::strerror(errno));
-    out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      throw CourseError(path + ": writing failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw CourseError(path + ": cannot rename the temporary file: " + ec.message());
-  }
+  write_world_file<CourseError>(path, text);
 }
 
 // ---------------------------------------------------------------------------

@@ -124,13 +124,8 @@ CameraWorldPose camera_pose(const host::CameraConfig& camera, const CameraMount&
   out.centre = {robot.x_m + c * mount.forward_m - s * mount.left_m,
                 robot.y_m + s * mount.forward_m + c * mount.left_m, camera.camera_height_m};
   out.world_to_camera = golden::world_to_camera_rotation(
-      robot.yaw_rad + mount.yaw_error_rad, golden::pitch_rad(camera) + mount.pitch_error_rad);
-  if (mount.roll_error_rad != 0.0) {
-    const double cr = std::cos(mount.roll_error_rad), sr = std::sin(mount.roll_error_rad);
-    Eigen::Matrix3d roll;
-    roll << cr, sr, 0.0, -sr, cr, 0.0, 0.0, 0.0, 1.0;
-    out.world_to_camera = roll * out.world_to_camera;
-  }
+      robot.yaw_rad + mount.yaw_error_rad, golden::pitch_rad(camera) + mount.pitch_error_rad,
+      mount.roll_error_rad);
   return out;
 }
 
