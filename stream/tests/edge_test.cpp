@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <random>
 #include <vector>
@@ -178,6 +179,14 @@ TEST(Edge, PhotoGoldenFastClocked) {
     expect.push_back(golden_edges(f, c));
     ASSERT_EQ(fast_edges(f, c), expect.back());
     EXPECT_GT(expect.back().size(), 1000u);
+    // The edge density and the densest row (docs/blocks/edge.md, FIFO sizing).
+    std::vector<uint32_t> per_row(f.height);
+    for (const EdgeRecord& e : expect.back()) ++per_row[e.y];
+    std::printf(
+        "building.jpg %ux%u mode %d t %u: %zu edges (%.1f %% of the pixels), at most %u in a row\n",
+        f.width, f.height, static_cast<int>(m), c.threshold, expect.back().size(),
+        100.0 * static_cast<double>(expect.back().size()) / static_cast<double>(f.pixels()),
+        *std::max_element(per_row.begin(), per_row.end()));
     test::append_frame(beats, f, rng, 0.1);
     cfgs.push_back(c);
   }
