@@ -147,6 +147,31 @@ static_assert(kRowRunCountBits == 11 && kFrameRunCountBits == 22 && kRunLengthBi
 
 }  // namespace run_scanner
 
+// edge: the edge detector's differences, magnitudes and per-frame counts.
+namespace edge {
+
+inline constexpr uint64_t kGreyMax = (1u << kPixelBits) - 1;
+// Horizontal / vertical difference p_i - p_{i-1}: -255 .. 255; |d| <= 255.
+inline constexpr int kDiffMagBits = bits_for(kGreyMax);
+// Sobel: gx, gy = (column/row with weights 1 2 1) - (the opposite one): at
+// most 4 * 255 = 1020 in magnitude, a sign bit more as two's complement;
+// |gx| + |gy| <= 2040. The beat's 12-bit magnitude field is "saturated to
+// 4095", which the largest value never reaches.
+inline constexpr uint64_t kSobelGMax = 4 * kGreyMax;
+inline constexpr int kSobelGBits = bits_for(kSobelGMax) + 1;
+inline constexpr int kSobelMagBits = bits_for(2 * kSobelGMax);
+inline constexpr int kMagFieldBits = 12;   // beat field magnitude[11:0]
+inline constexpr int kThresholdBits = 12;  // EDGE_CONTROL.THRESHOLD
+// Edges per frame: at most one per pixel.
+inline constexpr int kFrameEdgeCountBits = bits_for(uint64_t{kMaxWidth} * kMaxHeight);
+static_assert(kDiffMagBits == 8 && kSobelGBits == 11 && kSobelMagBits == 11);
+static_assert(exact_width(2 * kSobelGMax, kSobelMagBits) && kSobelMagBits < kMagFieldBits);
+static_assert(2 * kSobelGMax < (1u << kMagFieldBits) - 1, "the magnitude never saturates");
+static_assert(kFrameEdgeCountBits == 23 && kFrameEdgeCountBits < 32,
+              "the trailer's 32-bit edge count never saturates");
+
+}  // namespace edge
+
 // histogram: a bin counts at most every pixel of the largest frame.
 namespace histogram {
 

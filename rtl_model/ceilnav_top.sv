@@ -374,8 +374,9 @@ module ceilnav_top #(
   assign m_axis_runs_tdata_o   = reg2hw.control.run_sink ? '0 : pipe_tdata;
 
   // The run words use the SumWBits / SumXwBits low bits of sum_w / sum_xw (pack_run_beat).
+  // EDGE_CONTROL is only stored: the edge block (edge_detect) is not in the top yet.
   logic unused;
   assign unused = ^{pipe_tdata.sum_xw[WordBits-1:ceilnav_pkg::SumXwBits],
-                    pipe_tdata.sum_w[WordBits-1:ceilnav_pkg::SumWBits]};
+                    pipe_tdata.sum_w[WordBits-1:ceilnav_pkg::SumWBits], reg2hw.edge_control};
 
 endmodule

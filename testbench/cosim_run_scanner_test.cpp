@@ -120,10 +120,10 @@ template <class Top>
 using RunScannerBench = BlockBench<Top, RunScanner, RunScannerPorts<Top>>;
 
 // Random legal LutBeat streams with a random config port and tready.
-class StimGen : public LutStreamGen<StimGen, Stim> {
+class StimGen : public FifoStreamGen<StimGen, Stim, RunScanConfig> {
  public:
   StimGen(uint64_t seed, uint32_t max_stall_cycles)
-      : LutStreamGen(seed, LutStreamShape{}), max_stall_(max_stall_cycles) {
+      : FifoStreamGen(seed, LutStreamShape{}, max_stall_cycles) {
     cfg_ = random_config();
   }
 
@@ -137,28 +137,6 @@ class StimGen : public LutStreamGen<StimGen, Stim> {
     c.max_runs_per_row =
         rng_.chance(0.8) ? kMaxRuns[rng_.uniform(0, 7)] : rng_.uniform_as<uint16_t>(0, 20);
     return c;
-  }
-
-  // tready: phases of random length, each with its own P(tready), some of
-  // them full stalls.
-  bool next_tready() {
-    if (phase_left_ == 0) {
-      static constexpr double kP[] = {1.0, 1.0, 0.95, 0.7, 0.3, 0.05, 0.0};
-      p_ready_ = kP[rng_.uniform(0, 6)];
-      phase_left_ = static_cast<uint32_t>(
-          rng_.uniform(1, p_ready_ == 0.0 ? max_stall_ : std::max<uint32_t>(64, max_stall_ / 4)));
-    }
-    --phase_left_;
-    return p_ready_ >= 1.0 || (p_ready_ > 0.0 && rng_.chance(p_ready_));
-  }
-
-  Stim make(const LutBeat& b) {
-    if (rng_.chance(0.003)) cfg_ = random_config();  // the port may change at any time
-    Stim s;
-    s.beat = b;
-    s.cfg = cfg_;
-    s.tready = next_tready() && !stall_;
-    return s;
   }
 
   // Salt-and-pepper mask: about width/4 runs per row.
@@ -184,35 +162,6 @@ class StimGen : public LutStreamGen<StimGen, Stim> {
     stall_ = false;
   }
 
-  // LutStreamGen's hooks: the config port and tready on every cycle.
-  void begin_frame(const LutFrame& /*f*/) {}
-  Stim make_blank() { return make(blank_beat()); }
-  LutFrame frame(uint16_t w, uint16_t h) { return stream::test::random_frame(mt_, w, h); }
-  // Drain: tready high until the FIFO must be empty.
-  void drain(std::vector<Stim>& out) {
-    for (int i = 0; i < 1100; ++i) {
-      Stim s = make(LutBeat{});
-      s.tready = true;
-      out.push_back(s);
-    }
-  }
-
-  std::vector<Stim> random_stream(uint64_t cycles, double burst_probability) {
-    std::vector<Stim> out;
-    while (out.size() < cycles) {
-      if (rng_.chance(burst_probability)) {
-        append_burst(out);
-        continue;
-      }
-      uint16_t w = 0;
-      uint16_t h = 0;
-      random_size(w, h);
-      append_frame(out, stream::test::random_frame(mt_, w, h));
-    }
-    finish(out);
-    return out;
-  }
-
   // Tiny frames (1..3 x 1..2) back to back, many aborted by the next SOF:
   // an edge can then write an aborted-frame trailer, a run and a trailer.
   std::vector<Stim> tiny_stream(uint64_t cycles) {
@@ -225,13 +174,6 @@ class StimGen : public LutStreamGen<StimGen, Stim> {
     finish(out);
     return out;
   }
-
- private:
-  uint32_t max_stall_;
-  RunScanConfig cfg_;
-  bool stall_ = false;
-  uint32_t phase_left_ = 0;
-  double p_ready_ = 1.0;
 };
 
 void print_events(const char* name, uint64_t cycles, const Events& e) {

@@ -1,5 +1,5 @@
 // The LutBeat stream generator of the co-simulations of the blocks behind
-// thresh_lut (moment_gen, class_moments, run_scanner): random legal streams as
+// thresh_lut (moment_gen, class_moments, run_scanner, edge): random legal streams as
 // thresh_lut delivers them after frame_check. Frames of random size (mostly
 // small, now and then up to 640 x 480), tvalid gaps (valid low) per frame,
 // zero-blanking back-to-back frames, aborts (an abort beat alone, or combined
@@ -16,6 +16,7 @@
 // Stim has `LutBeat beat` and `bool reset_before`.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -163,6 +164,85 @@ class LutStreamGen {
 
   LutStreamShape shape_;
   bool pending_abort_ = false;
+};
+
+// The generator of a block with a configuration port and an m_axis output
+// behind a FIFO (run_scanner, edge): LutStreamGen's hooks plus the config
+// port (a new random configuration at any cycle, P = 0.003) and the
+// consumer's tready in phases of random length, each with its own P(tready),
+// some of them full stalls of up to max_stall cycles. Block adds
+//   Config random_config()                 a random configuration
+//   void append_burst(std::vector<Stim>&)  frames that overflow the FIFO (using stall_)
+// Stim has `LutBeat beat`, `Config cfg`, `bool tready`, `bool reset_before`.
+template <class Block, class Stim, class Config>
+class FifoStreamGen : public LutStreamGen<Block, Stim> {
+ public:
+  FifoStreamGen(uint64_t seed, const LutStreamShape& shape, uint32_t max_stall_cycles)
+      : LutStreamGen<Block, Stim>(seed, shape), max_stall_(max_stall_cycles) {}
+
+  bool next_tready() {
+    Rng& rng = this->rng_;
+    if (phase_left_ == 0) {
+      static constexpr double kP[] = {1.0, 1.0, 0.95, 0.7, 0.3, 0.05, 0.0};
+      p_ready_ = kP[rng.uniform(0, 6)];
+      phase_left_ = static_cast<uint32_t>(
+          rng.uniform(1, p_ready_ == 0.0 ? max_stall_ : std::max<uint32_t>(64, max_stall_ / 4)));
+    }
+    --phase_left_;
+    return p_ready_ >= 1.0 || (p_ready_ > 0.0 && rng.chance(p_ready_));
+  }
+
+  Stim make(const stream::LutBeat& b) {
+    if (this->rng_.chance(0.003)) cfg_ = block().random_config();  // the port may change any time
+    Stim s;
+    s.beat = b;
+    s.cfg = cfg_;
+    s.tready = next_tready() && !stall_;
+    return s;
+  }
+
+  // LutStreamGen's hooks.
+  void begin_frame(const stream::test::LutFrame& /*f*/) {}
+  Stim make_blank() { return make(this->blank_beat()); }
+  stream::test::LutFrame frame(uint16_t w, uint16_t h) {
+    return stream::test::random_frame(this->mt_, w, h);
+  }
+  // Drain: tready high until a FIFO of up to 1024 entries must be empty.
+  void drain(std::vector<Stim>& out) {
+    for (int i = 0; i < 1100; ++i) {
+      Stim s = make(stream::LutBeat{});
+      s.tready = true;
+      out.push_back(s);
+    }
+  }
+
+  // Random frames, and with burst_probability per frame the block's burst.
+  std::vector<Stim> random_stream(uint64_t cycles, double burst_probability) {
+    std::vector<Stim> out;
+    while (out.size() < cycles) {
+      if (this->rng_.chance(burst_probability)) {
+        block().append_burst(out);
+        continue;
+      }
+      uint16_t w = 0;
+      uint16_t h = 0;
+      this->random_size(w, h);
+      this->append_frame(out, frame(w, h));
+    }
+    this->finish(out);
+    return out;
+  }
+
+ protected:
+  Config cfg_{};
+  bool stall_ = false;  // tready low whatever the phase
+
+ private:
+  Block& block() { return static_cast<Block&>(*this); }
+
+  uint32_t max_stall_;
+  uint32_t phase_left_ = 0;
+  double p_ready_ = 1.0;
 };
 
 // A grey image (a photo) through a LUT, as the LutFrame thresh_lut makes of it.

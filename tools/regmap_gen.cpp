@@ -461,6 +461,9 @@ std::string sv_widths() {
   line("RunLenBits", rs::kRunLengthBits, "run_scanner run length");
   line("FrameRunBits", rs::kFrameRunCountBits, "run_scanner runs per frame");
   line("BinBits", dp::histogram::kBinBits, "histogram bin");
+  line("EdgeGBits", dp::edge::kSobelGBits, "edge Sobel gx, gy (signed)");
+  line("EdgeMagBits", dp::edge::kSobelMagBits, "edge Sobel |gx| + |gy|");
+  line("EdgeCountBits", dp::edge::kFrameEdgeCountBits, "edge edges per frame");
   line("M00Bits", cm::kMomentBits[0], "class_moments m00");
   line("M10Bits", cm::kMomentBits[1], "class_moments m10, m01");
   line("M20Bits", cm::kMomentBits[3], "class_moments m20, m02");

@@ -33,6 +33,9 @@ int main(void) {
         "640x480 after reset");
   check(CEILNAV_RUN_FIFO_DEPTH_VALUE_RESVAL == CEILNAV_PARAM_RUNFIFODEPTH,
         "RUN_FIFO_DEPTH reads the parameter");
+  check(CEILNAV_EDGE_FIFO_DEPTH_VALUE_RESVAL == CEILNAV_PARAM_EDGEFIFODEPTH,
+        "EDGE_FIFO_DEPTH reads the parameter");
+  check(CEILNAV_EDGE_CONTROL_THRESHOLD_MASK == (0xFFFu << 16), "edge threshold bits 27:16");
   if (failures == 0) printf("ceilnav_regs.h: all checks hold\n");
   return failures == 0 ? 0 : 1;
 }

@@ -29,6 +29,7 @@ namespace {
 TEST(CHeader, RegistersAgreeWithTheCppHeader) {
   EXPECT_EQ(CEILNAV_ADDR_WIDTH, kAddrWidth);
   EXPECT_EQ(CEILNAV_PARAM_RUNFIFODEPTH, kRunFifoDepth);
+  EXPECT_EQ(CEILNAV_PARAM_EDGEFIFODEPTH, kEdgeFifoDepth);
   EXPECT_EQ(CEILNAV_RESP_SLVERR, kRespSlvErr);
   EXPECT_REGISTER(ID, id);
   EXPECT_REGISTER(CONTROL, control);
@@ -47,6 +48,10 @@ TEST(CHeader, RegistersAgreeWithTheCppHeader) {
   EXPECT_FIELD(CLASS_WIN_X_X1, class_win_x::kX1);
   EXPECT_FIELD(RUN_WORD0_ROW, run_word0::kRow);
   EXPECT_FIELD(HIST_DATA_COUNT, hist_data::kCount);
+  EXPECT_REGISTER(EDGE_CONTROL, edge_control);
+  EXPECT_REGISTER(EDGE_FIFO_DEPTH, edge_fifo_depth);
+  EXPECT_FIELD(EDGE_CONTROL_MODE, edge_control::kMode);
+  EXPECT_FIELD(EDGE_CONTROL_THRESHOLD, edge_control::kThreshold);
 }
 
 TEST(CHeader, ArraysAgreeWithTheCppHeader) {

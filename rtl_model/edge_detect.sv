@@ -1,0 +1,413 @@
+// edge_detect: the edge block of seed 002 eq. 17 (`edge` is a SystemVerilog
+// keyword, hence the module name). A pixel of the LUT remap stream is an
+// edge point if its horizontal difference |p(x,y) - p(x-1,y)|, its vertical
+// difference |p(x,y) - p(x,y-1)| or its 3x3 Sobel magnitude |gx| + |gy|
+// (interior window centres) exceeds a threshold; every edge point becomes
+// one beat of m_axis_edges through a FIFO (run_fifo), with one trailer beat
+// per frame. Cycle model: stream/edge.{hpp,cpp}; spec: docs/blocks/edge.md.
+//
+// Inputs are assumed legal as frame_check/thresh_lut make them (the C++ model
+// throws otherwise): pix.x/pix.y equal the block's own position counters, and
+// a beat carrying both abort and a pixel is an SOF (early SOF). Both are
+// checked by simulation assertions.
+//
+// m_axis_edges_tdata (pack_edge_beat() / pack_edge_trailer() in
+// common/edge_record.hpp):
+//   edge:    [15:0] x  [31:16] y  [43:32] magnitude  [44] polarity  [46:45] kind
+//   trailer: [31:0] edges emitted  [32] overflow  [33] aborted  [63:48] dropped (sat.)
+
+module edge_detect #(
+  parameter int unsigned FifoDepth = 1024,  // edge FIFO entries, power of two, >= 8
+  localparam int unsigned CountBits = $clog2(FifoDepth) + 1,
+  localparam int unsigned ModeBits = 2,
+  localparam int unsigned ThreshBits = 12,
+  localparam int unsigned TdataBits = 2 * ceilnav_pkg::WordBits
+) (
+  input  logic                 clk_i,
+  input  logic                 rst_ni,
+
+  // s_lut: pixel beat from thresh_lut (LutBeat).
+  input  logic                 s_lut_valid_i,
+  input  ceilnav_pkg::pixel_t  s_lut_grey_i,
+  input  ceilnav_pkg::coord_t  s_lut_x_i,
+  input  ceilnav_pkg::coord_t  s_lut_y_i,
+  input  logic                 s_lut_sof_i,
+  input  logic                 s_lut_eol_i,
+  input  logic                 s_lut_eof_i,
+  input  logic                 s_lut_abort_i,
+  input  ceilnav_pkg::pixel_t  s_lut_remap_i,
+  input  logic                 s_lut_mask_i,
+
+  // Configuration (EDGE_CONTROL), latched at the SOF pixel.
+  input  logic                  cfg_enable_i,
+  input  logic [ModeBits-1:0]   cfg_mode_i,       // 0 horizontal, 1 vertical, 2 Sobel, 3 none
+  input  logic [ThreshBits-1:0] cfg_threshold_i,  // edge: magnitude > threshold
+
+  output logic                 m_axis_edges_tvalid_o,
+  input  logic                 m_axis_edges_tready_i,
+  output logic                 m_axis_edges_tlast_o,
+  output logic [TdataBits-1:0] m_axis_edges_tdata_o,
+
+  output logic                 done_o,  // one-cycle pulse: the stats were just updated
+  output ceilnav_pkg::word_t   edges_emitted_o,  // last completed frame
+  output ceilnav_pkg::word_t   edges_dropped_o,
+  output logic [CountBits-1:0] fifo_occupancy_o,
+  output ceilnav_pkg::word_t   trailers_lost_o
+);
+
+  localparam int unsigned CoordBits = ceilnav_pkg::CoordBits;
+  localparam int unsigned PixelBits = ceilnav_pkg::PixelBits;
+  localparam int unsigned WordBits  = ceilnav_pkg::WordBits;
+  localparam int unsigned WrBits    = ceilnav_pkg::FifoWrBits;
+  // Widths from fixedpoint/datapath.hpp (namespace edge).
+  localparam int unsigned GBits    = ceilnav_widths_pkg::EdgeGBits;      // Sobel gx, gy, signed
+  localparam int unsigned SMagBits = ceilnav_widths_pkg::EdgeMagBits;    // |gx| + |gy| <= 2040
+  localparam int unsigned CntBits  = ceilnav_widths_pkg::EdgeCountBits;  // edges per frame
+  localparam int unsigned SumBits  = GBits - 1;       // a 1 2 1 weighted sum, <= 1020
+  localparam int unsigned DiffBits = PixelBits + 1;   // p - q, signed
+  localparam int unsigned FieldBits = ceilnav_pkg::RunFieldBits;  // x, y, dropped: 16 bits
+  localparam int unsigned MagField = 12;   // beat magnitude[11:0]
+  localparam int unsigned KindBits = 2;
+  localparam int unsigned FlagBits = 2;    // trailer flags: overflow, aborted
+  // FIFO entry {last, a, b}: edge a = {0, y, x}, b = {0, kind, polarity,
+  // magnitude}; trailer a = edges emitted, b = {dropped (saturated), flags}.
+  localparam int unsigned ABits = CntBits;
+  localparam int unsigned BBits = FieldBits + FlagBits;
+  localparam int unsigned EntryBits = 1 + ABits + BBits;
+  localparam int unsigned LbBits = 2 * PixelBits;  // line buffer: rows y-1, y-2
+  localparam int unsigned LbDepth = 1 << CoordBits;
+
+  localparam logic [ModeBits-1:0] ModeH = ModeBits'(0);
+  localparam logic [ModeBits-1:0] ModeV = ModeBits'(1);
+  localparam logic [ModeBits-1:0] ModeS = ModeBits'(2);
+
+  if (FifoDepth < 8 || (FifoDepth & (FifoDepth - 1)) != 0) begin : g_bad_depth
+    $fatal(1, "edge_detect: FifoDepth must be a power of two >= 8");
+  end
+
+  // ---------------------------------------------------------------------------
+  // Frame and configuration. A frame is taken from an SOF pixel with
+  // cfg_enable_i = 1 to its EOF pixel or an abort.
+  logic                  frame_open_q, frame_open_d, take, sof_take, sof_pix;
+  logic [ModeBits-1:0]   mode_q, mode;
+  logic [ThreshBits-1:0] thresh_q, thresh;
+  assign sof_pix  = s_lut_valid_i & s_lut_sof_i;
+  assign take     = s_lut_valid_i & (s_lut_sof_i ? cfg_enable_i : frame_open_q);
+  assign sof_take = sof_pix & cfg_enable_i;
+  assign mode     = s_lut_sof_i ? cfg_mode_i : mode_q;
+  assign thresh   = s_lut_sof_i ? cfg_threshold_i : thresh_q;
+
+  always_comb begin
+    frame_open_d = frame_open_q;
+    if (sof_pix) frame_open_d = take & ~s_lut_eof_i;  // a disabled frame is not opened
+    else if (take) frame_open_d = ~s_lut_eof_i;
+    else if (s_lut_abort_i) frame_open_d = 1'b0;
+  end
+
+  ceilnav_pkg::coord_t x, y;
+  ceilnav_pkg::pixel_t p;
+  assign x = s_lut_x_i;  // == the position counters (asserted below)
+  assign y = s_lut_y_i;
+  assign p = s_lut_remap_i;
+
+  // ---------------------------------------------------------------------------
+  // Line buffer: one BRAM word per column, {p(x,y-2), p(x,y-1)}. The
+  // synchronous read of a pixel's column is issued on the edge before it:
+  // the address is the next pixel's column (next_col_q, or the one after the
+  // pixel taken on this edge). Only a one-pixel-wide frame reads on the edge
+  // that writes the same word; that read takes the written word (lb_byp_q).
+  // Words of rows a frame has not written yet are read but never used (row
+  // y-1 only from y >= 1, row y-2 only from y >= 2), so the stale word an
+  // early SOF pixel reads is harmless.
+  ceilnav_pkg::coord_t next_col_q, rd_col;
+  logic                lb_we, lb_byp, lb_byp_q;
+  logic [LbBits-1:0]   lb_wdata, lb_rdata_q, lb_byp_data_q, lb_word;
+  (* no_rw_check *)
+  logic [LbBits-1:0]   lb_mem_q[LbDepth];
+  ceilnav_pkg::pixel_t r1, r2;  // p(x,y-1), p(x,y-2)
+
+  always_comb begin
+    rd_col = frame_open_d ? next_col_q : '0;
+    if (take) rd_col = s_lut_eol_i ? '0 : x + CoordBits'(1);
+  end
+  assign lb_word  = lb_byp_q ? lb_byp_data_q : lb_rdata_q;
+  assign r1       = lb_word[PixelBits-1:0];
+  assign r2       = lb_word[LbBits-1:PixelBits];
+  // No write on an edge in reset (docs/rtl_style.md, "Reset").
+  assign lb_we    = rst_ni & take;
+  assign lb_wdata = {r1, p};
+  assign lb_byp   = take & s_lut_eol_i & (x == '0);
+
+  always_ff @(posedge clk_i) begin
+    if (lb_we) lb_mem_q[x] <= lb_wdata;
+  end
+  always_ff @(posedge clk_i) begin
+    lb_rdata_q <= lb_mem_q[rd_col];
+    lb_byp_q <= lb_byp;
+    lb_byp_data_q <= lb_wdata;
+  end
+
+  // 3x3 window: columns x-2 (w2), x-1 (w1) as {top y-2, mid y-1, bot y}, and
+  // the column of this pixel {r2, r1, p}.
+  ceilnav_pkg::pixel_t w1_top_q, w1_mid_q, w1_bot_q, w2_top_q, w2_mid_q, w2_bot_q;
+
+  // ---------------------------------------------------------------------------
+  // Differences. Horizontal / vertical: d = p - left / p - up.
+  logic [DiffBits-1:0]  diff;
+  ceilnav_pkg::pixel_t  diff_mag;
+  logic                 diff_rises;
+  assign diff       = {1'b0, p} - {1'b0, mode == ModeV ? r1 : w1_bot_q};
+  assign diff_mag   = diff[DiffBits-1] ? PixelBits'(-diff) : diff[PixelBits-1:0];
+  assign diff_rises = ~diff[DiffBits-1] & (diff != '0);
+
+  // Sobel on the window centred at (x-1, y-1):
+  //   gx = (t2 + 2 m2 + b2) - (t0 + 2 m0 + b0),  gy = (b0 + 2 b1 + b2) - (t0 + 2 t1 + t2).
+  function automatic logic [SumBits-1:0] sum121(ceilnav_pkg::pixel_t a, ceilnav_pkg::pixel_t b,
+                                                ceilnav_pkg::pixel_t c);
+    sum121 = SumBits'(a) + SumBits'({b, 1'b0}) + SumBits'(c);
+  endfunction
+  function automatic logic [SumBits-1:0] abs_g(logic [GBits-1:0] g);
+    abs_g = g[GBits-1] ? SumBits'(-g) : g[SumBits-1:0];
+  endfunction
+  logic [GBits-1:0]    gx, gy;
+  logic [SMagBits-1:0] sobel_mag;
+  logic                sobel_rises;
+  assign gx = GBits'(sum121(r2, r1, p)) - GBits'(sum121(w2_top_q, w2_mid_q, w2_bot_q));
+  assign gy = GBits'(sum121(w2_bot_q, w1_bot_q, p)) - GBits'(sum121(w2_top_q, w1_top_q, r2));
+  assign sobel_mag   = SMagBits'(abs_g(gx)) + SMagBits'(abs_g(gy));
+  assign sobel_rises = ~gx[GBits-1] & (gx != '0);
+
+  // The edge test. Sobel centres need x, y >= 2 (interior of the frame).
+  logic                 in_range, is_sobel, hit;
+  logic [MagField-1:0]  mag;
+  logic                 rises;
+  logic [KindBits-1:0]  kind;
+  ceilnav_pkg::coord_t  ex, ey;
+  assign is_sobel = mode == ModeS;
+  always_comb begin
+    unique case (mode)
+      ModeH:   in_range = x != '0;
+      ModeV:   in_range = y != '0;
+      ModeS:   in_range = (x[CoordBits-1:1] != '0) & (y[CoordBits-1:1] != '0);
+      default: in_range = 1'b0;  // reserved: no edges
+    endcase
+  end
+  assign mag   = is_sobel ? MagField'(sobel_mag) : MagField'(diff_mag);
+  assign rises = is_sobel ? sobel_rises : diff_rises;
+  assign kind  = is_sobel ? KindBits'(2) : KindBits'(mode == ModeV);
+  assign ex    = is_sobel ? x - CoordBits'(1) : x;
+  assign ey    = is_sobel ? y - CoordBits'(1) : y;
+  assign hit   = take & in_range & (mag > thresh);
+
+  // ---------------------------------------------------------------------------
+  // Admission. Writes per edge: aborted-frame trailer (A) or edge (E) -- never
+  // both: A comes only with no pixel or an SOF pixel, which is no edge -- then
+  // the end-of-frame trailer (T); against the pre-edge occupancy n: A if
+  // n < depth, E if n + 1 < depth (one entry stays free for the trailer), T if
+  // n + A + E < depth.
+  logic [CountBits-1:0] count_q, count_d;  // FIFO entries, not counting the output register
+  logic                 n_lt_d, n_lt_dm1;
+  logic                 a_req, a_en, e_en, t_req, t_en, drop;
+  assign n_lt_d   = ~count_q[CountBits-1];
+  assign n_lt_dm1 = n_lt_d & ~(&count_q[CountBits-2:0]);
+  assign a_req    = s_lut_abort_i & frame_open_q;
+  assign a_en     = a_req & n_lt_d;
+  assign e_en     = hit & n_lt_dm1;
+  assign drop     = hit & ~n_lt_dm1;
+  assign t_req    = take & s_lut_eof_i;
+  assign t_en     = t_req & (a_en | e_en ? n_lt_dm1 : n_lt_d);
+
+  logic [CntBits-1:0] emitted_q, emitted_d, dropped_q, dropped_d;
+  logic               sticky_q, sticky_a, sticky_d;
+  assign emitted_d = (sof_take ? '0 : emitted_q) + CntBits'(e_en);
+  assign dropped_d = (sof_take ? '0 : dropped_q) + CntBits'(drop);
+  assign sticky_a  = a_req ? ~a_en : sticky_q;
+  assign sticky_d  = t_req ? ~t_en : sticky_a;
+
+  function automatic logic [FieldBits-1:0] sat16(logic [CntBits-1:0] v);
+    sat16 = v > CntBits'({FieldBits{1'b1}}) ? {FieldBits{1'b1}} : v[FieldBits-1:0];
+  endfunction
+  logic [EntryBits-1:0] a_entry, e_entry, t_entry, slot0;
+  assign a_entry = {1'b1, emitted_q, sat16(dropped_q), 1'b1, (dropped_q != '0) | sticky_q};
+  assign t_entry = {1'b1, emitted_d, sat16(dropped_d), 1'b0, (dropped_d != '0) | sticky_a};
+  assign e_entry = {1'b0, 1'b0, ey, ex, (BBits - MagField - 1 - KindBits)'(0), kind, rises, mag};
+  assign slot0   = a_en ? a_entry : e_en ? e_entry : t_entry;
+
+  logic [WrBits-1:0] n_writes;
+  assign n_writes = WrBits'(a_en) + WrBits'(e_en) + WrBits'(t_en);
+
+  // Saturating trailers_lost += lost (0 .. 2).
+  ceilnav_pkg::word_t trailers_lost_q;
+  logic [WordBits:0]  lost_sum;
+  logic               a_lost, t_lost;
+  assign a_lost   = a_req & ~a_en;
+  assign t_lost   = t_req & ~t_en;
+  assign lost_sum = {1'b0, trailers_lost_q} + (WordBits + 1)'(a_lost) + (WordBits + 1)'(t_lost);
+
+  // ---------------------------------------------------------------------------
+  // FIFO (run_fifo, no late field): its read register is the output register.
+  logic                 out_valid_q, out_load, pop;
+  logic [EntryBits-1:0] head;
+  logic                 late_unused;
+  assign out_load = ~out_valid_q | m_axis_edges_tready_i;
+  assign pop      = out_load & (count_q != '0);
+  assign count_d  = count_q - CountBits'(pop) + CountBits'(n_writes);
+
+  run_fifo #(
+    .Depth(FifoDepth),
+    .Width(EntryBits),
+    .LateWidth(1)
+  ) u_fifo (
+    .clk_i,
+    .rst_ni,
+    .wr_count_i  (n_writes),
+    .wr_data_i   ({t_entry, slot0}),
+    .late_en_i   (1'b0),
+    .late_slot_i (1'b0),
+    .late_data_i (1'b0),
+    .rd_i        (pop),
+    .rdata_o     (head),
+    .rdata_late_o(late_unused)
+  );
+
+  // ---------------------------------------------------------------------------
+  // Registers.
+  logic [CntBits-1:0] stat_emitted_q, stat_dropped_q;
+  logic               done_q;
+
+  always_ff @(posedge clk_i) begin
+    if (!rst_ni) begin
+      frame_open_q <= 1'b0;
+      mode_q <= ModeH;  // EdgeConfig{} (unused until an SOF latches the port)
+      thresh_q <= ThreshBits'(32);
+      next_col_q <= '0;
+      w1_top_q <= '0;
+      w1_mid_q <= '0;
+      w1_bot_q <= '0;
+      w2_top_q <= '0;
+      w2_mid_q <= '0;
+      w2_bot_q <= '0;
+      emitted_q <= '0;
+      dropped_q <= '0;
+      sticky_q <= 1'b0;
+      trailers_lost_q <= '0;
+      stat_emitted_q <= '0;
+      stat_dropped_q <= '0;
+      done_q <= 1'b0;
+      count_q <= '0;
+      out_valid_q <= 1'b0;
+    end else begin
+      frame_open_q <= frame_open_d;
+      next_col_q <= rd_col;
+      if (sof_take) begin
+        mode_q <= cfg_mode_i;
+        thresh_q <= cfg_threshold_i;
+      end
+      if (take) begin
+        w2_top_q <= w1_top_q;
+        w2_mid_q <= w1_mid_q;
+        w2_bot_q <= w1_bot_q;
+        w1_top_q <= r2;
+        w1_mid_q <= r1;
+        w1_bot_q <= p;
+        emitted_q <= emitted_d;
+        dropped_q <= dropped_d;
+      end
+      sticky_q <= sticky_d;
+      trailers_lost_q <= lost_sum[WordBits] ? {WordBits{1'b1}} : lost_sum[WordBits-1:0];
+      if (t_req) begin
+        stat_emitted_q <= emitted_d;
+        stat_dropped_q <= dropped_d;
+      end
+      done_q <= t_req;
+      count_q <= count_d;
+      if (out_load) out_valid_q <= pop;
+    end
+  end
+
+  // ---------------------------------------------------------------------------
+  // Outputs: the entry laid out as the beat; 0 while no beat is valid.
+  logic                 head_last;
+  logic [ABits-1:0]     head_a;
+  logic [BBits-1:0]     head_b;
+  logic [WordBits-1:0]  word0, word1;
+  assign {head_last, head_a, head_b} = head;
+  always_comb begin
+    if (head_last) begin
+      word0 = WordBits'(head_a);
+      word1 = {head_b[BBits-1:FlagBits], (WordBits - FieldBits - FlagBits)'(0),
+               head_b[FlagBits-1:0]};
+    end else begin
+      word0 = {(FieldBits - CoordBits)'(0), head_a[2*CoordBits-1:CoordBits],
+               (FieldBits - CoordBits)'(0), head_a[CoordBits-1:0]};
+      word1 = WordBits'(head_b[MagField+KindBits:0]);
+    end
+  end
+  assign m_axis_edges_tvalid_o = out_valid_q;
+  assign m_axis_edges_tlast_o  = out_valid_q & head_last;
+  assign m_axis_edges_tdata_o  = {word1, word0} & {TdataBits{out_valid_q}};
+  assign done_o           = done_q;
+  assign edges_emitted_o  = WordBits'(stat_emitted_q);
+  assign edges_dropped_o  = WordBits'(stat_dropped_q);
+  assign fifo_occupancy_o = count_q;
+  assign trailers_lost_o  = trailers_lost_q;
+
+  // Edges are of the LUT remap: the camera pixel and the mask are not used;
+  // run_fifo's late field is not used.
+  logic unused;
+  assign unused = ^{s_lut_grey_i, s_lut_mask_i, late_unused};
+
+`ifndef SYNTHESIS
+  // Position counters, for the assertion only: the RTL uses pix.x/pix.y.
+  ceilnav_pkg::coord_t x_q, y_q, x_cnt, y_cnt;
+  logic [TdataBits-1:0] tdata_q;
+  logic                 tlast_q, stalled_q;
+  assign x_cnt = s_lut_sof_i ? '0 : x_q;
+  assign y_cnt = s_lut_sof_i ? '0 : y_q;
+  always_ff @(posedge clk_i) begin
+    if (!rst_ni) begin
+      x_q <= '0;
+      y_q <= '0;
+      stalled_q <= 1'b0;
+    end else begin
+      if (take) begin
+        x_q <= s_lut_eol_i ? '0 : x_cnt + CoordBits'(1);
+        y_q <= s_lut_eol_i ? y_cnt + CoordBits'(1) : y_cnt;
+      end
+      stalled_q <= m_axis_edges_tvalid_o & ~m_axis_edges_tready_i;
+      tdata_q <= m_axis_edges_tdata_o;
+      tlast_q <= m_axis_edges_tlast_o;
+    end
+  end
+  always_ff @(posedge clk_i) begin
+    if (rst_ni) begin
+      if (take) begin
+        assert (s_lut_x_i == x_cnt && s_lut_y_i == y_cnt)
+        else $error("edge_detect: pixel (%0d, %0d) but counters (%0d, %0d)",
+                    s_lut_x_i, s_lut_y_i, x_cnt, y_cnt);
+        // The line buffer read this pixel's column on the edge before (an
+        // early SOF pixel finds the read of the aborted frame's next column:
+        // row 0 uses no line buffer word, and its stale words are never read).
+        assert (s_lut_sof_i || lb_byp || next_col_q == x)
+        else $error("edge_detect: line buffer read column %0d, pixel at %0d", next_col_q, x);
+      end
+      // Only frame_check's early SOF carries an abort and a pixel.
+      assert (!(s_lut_abort_i && s_lut_valid_i) || s_lut_sof_i)
+      else $error("edge_detect: abort on a pixel that is not an SOF");
+      assert (!(a_en && e_en))
+      else $error("edge_detect: an aborted-frame trailer and an edge on one edge");
+      assert ({1'b0, count_q} + (CountBits + 1)'(n_writes) <= (CountBits + 1)'(FifoDepth))
+      else $error("edge_detect: FIFO overflow");
+    end
+  end
+  always_ff @(posedge clk_i) begin
+    // AXI4-Stream: a beat that is not taken holds.
+    if (rst_ni && stalled_q) begin
+      assert (m_axis_edges_tvalid_o && m_axis_edges_tdata_o == tdata_q &&
+              m_axis_edges_tlast_o == tlast_q)
+      else $error("edge_detect: m_axis_edges changed while stalled");
+    end
+  end
+`endif
+
+endmodule

@@ -1,0 +1,205 @@
+#include "stream/edge.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace ceilnav::stream {
+
+namespace {
+
+struct Window {
+  // Columns x-2, x-1, x of rows y-2 (top), y-1 (mid), y (bot).
+  uint8_t t0, m0, b0, t1, m1, b1, t2, m2, b2;
+};
+
+// The edge test of the pixel at (x, y) with its window: true and *e filled if
+// the pixel (or, for Sobel, the window centre) is an edge point.
+bool detect(EdgeMode mode, uint16_t threshold, uint32_t x, uint32_t y, const Window& w,
+            EdgeRecord* e) {
+  int d = 0;
+  int mag = 0;
+  bool rises = false;
+  EdgeKind kind = EdgeKind::kHorizontal;
+  uint32_t ex = x;
+  uint32_t ey = y;
+  switch (mode) {
+    case EdgeMode::kHorizontal:
+      if (x < 1) return false;
+      d = int{w.b2} - int{w.b1};
+      mag = std::abs(d);
+      rises = d > 0;
+      break;
+    case EdgeMode::kVertical:
+      if (y < 1) return false;
+      d = int{w.b2} - int{w.m2};
+      mag = std::abs(d);
+      rises = d > 0;
+      kind = EdgeKind::kVertical;
+      break;
+    case EdgeMode::kSobel: {
+      if (x < 2 || y < 2) return false;
+      const int gx =
+          (int{w.t2} + 2 * int{w.m2} + int{w.b2}) - (int{w.t0} + 2 * int{w.m0} + int{w.b0});
+      const int gy =
+          (int{w.b0} + 2 * int{w.b1} + int{w.b2}) - (int{w.t0} + 2 * int{w.t1} + int{w.t2});
+      mag = std::min(4095, std::abs(gx) + std::abs(gy));
+      rises = gx > 0;
+      kind = EdgeKind::kSobel;
+      ex = x - 1;
+      ey = y - 1;
+      break;
+    }
+    case EdgeMode::kReserved:
+      return false;
+  }
+  if (mag <= int{threshold}) return false;
+  *e = {static_cast<uint16_t>(ex), static_cast<uint16_t>(ey), static_cast<uint16_t>(mag), rises,
+        kind};
+  return true;
+}
+
+}  // namespace
+
+EdgeDetector::EdgeDetector(uint32_t fifo_depth)
+    : line1_(fp::datapath::kMaxWidth), line2_(fp::datapath::kMaxWidth) {
+  if (fifo_depth < 8 || (fifo_depth & (fifo_depth - 1)) != 0) {
+    throw std::invalid_argument("EdgeDetector: fifo_depth must be a power of two >= 8");
+  }
+  fifo_.resize(fifo_depth);
+  reset();
+}
+
+void EdgeDetector::reset() {
+  cfg_q_ = {};
+  frame_open_q_ = false;
+  x_q_ = 0;
+  y_q_ = 0;
+  win1_q_ = {};
+  win2_q_ = {};
+  frame_q_ = {};
+  stats_q_ = {};
+  done_q_ = false;
+  overflow_sticky_q_ = false;
+  trailers_lost_q_ = 0;
+  std::fill(fifo_.begin(), fifo_.end(), Entry{});
+  fifo_head_q_ = 0;
+  fifo_count_q_ = 0;
+  out_q_ = {};
+}
+
+void EdgeDetector::clock(const LutBeat& in, bool m_axis_edges_tready) {
+  const uint32_t depth = fifo_depth();
+
+  // ---- FIFO read side (pre-edge count), as run_scanner's.
+  bool pop = false;
+  EdgeBeat out_d = out_q_;
+  if (!out_q_.tvalid || m_axis_edges_tready) {
+    if (fifo_count_q_ > 0) {
+      const Entry& e = fifo_[fifo_head_q_];
+      out_d = {true, e.last, e.tdata};
+      pop = true;
+    } else {
+      out_d = {};
+    }
+  }
+
+  Entry writes[2];  // at most two per edge: (aborted trailer | edge), trailer
+  uint32_t n_writes = 0;
+  bool done_d = false;
+  EdgeStats frame_d = frame_q_;
+  bool sticky_d = overflow_sticky_q_;
+
+  auto push_trailer = [&](bool aborted) {
+    uint32_t flags = aborted ? kEdgeTrailerAborted : 0u;
+    if (frame_d.edges_dropped != 0 || sticky_d) flags |= kEdgeTrailerOverflow;
+    if (fifo_count_q_ + n_writes < depth) {
+      writes[n_writes++] = {true,
+                            pack_edge_trailer(frame_d.edges_emitted, flags, frame_d.edges_dropped)};
+      sticky_d = false;
+    } else {
+      if (trailers_lost_q_ != UINT32_MAX) ++trailers_lost_q_;
+      sticky_d = true;
+    }
+  };
+
+  const PixelBeat& pix = in.pix;
+  // frame_check's early SOF (abort with the next SOF pixel) or a lone abort
+  // closes the open frame first.
+  if (pix.abort && frame_open_q_) push_trailer(true);
+
+  const bool take = pix.valid && (pix.sof ? cfg_in_.enable : frame_open_q_);
+  if (take) {
+    if (pix.sof) {
+      cfg_q_ = cfg_in_;
+      frame_d = {};
+    }
+    const uint32_t x = pix.sof ? 0u : x_q_;
+    const uint32_t y = pix.sof ? 0u : y_q_;
+    if (x != pix.x || y != pix.y) {
+      throw std::logic_error("EdgeDetector: pixel position differs from the counters");
+    }
+    const Column cur{line2_[x], line1_[x], in.remap};
+    const Window w{win2_q_.top, win2_q_.mid, win2_q_.bot, win1_q_.top, win1_q_.mid,
+                   win1_q_.bot, cur.top,     cur.mid,     cur.bot};
+    EdgeRecord e;
+    if (detect(cfg_q_.mode, cfg_q_.threshold, x, y, w, &e)) {
+      if (fifo_count_q_ + n_writes + 1 < depth) {  // one entry stays free for the trailer
+        writes[n_writes++] = {false, pack_edge_beat(e)};
+        ++frame_d.edges_emitted;
+      } else {
+        ++frame_d.edges_dropped;
+      }
+    }
+    line2_[x] = cur.mid;
+    line1_[x] = cur.bot;
+    win2_q_ = win1_q_;
+    win1_q_ = cur;
+    x_q_ = static_cast<uint16_t>(pix.eol ? 0u : x + 1);
+    y_q_ = static_cast<uint16_t>(pix.eol ? y + 1 : y);
+    if (pix.eof) push_trailer(false);
+  }
+
+  // ---- Commit the FIFO: writes at the tail (pre-edge), read at the head.
+  for (uint32_t i = 0; i < n_writes; ++i) {
+    fifo_[(fifo_head_q_ + fifo_count_q_ + i) % depth] = writes[i];
+  }
+  if (pop) fifo_head_q_ = (fifo_head_q_ + 1) % depth;
+  fifo_count_q_ = fifo_count_q_ - (pop ? 1u : 0u) + n_writes;
+
+  if (pix.valid && pix.sof) {
+    frame_open_q_ = take && !pix.eof;  // a disabled frame is not opened
+  } else if (take) {
+    frame_open_q_ = !pix.eof;
+  } else if (pix.abort) {
+    frame_open_q_ = false;
+  }
+  if (take && pix.eof) {
+    stats_q_ = frame_d;
+    done_d = true;
+  }
+  frame_q_ = frame_d;
+  overflow_sticky_q_ = sticky_d;
+  out_q_ = out_d;
+  done_q_ = done_d;
+}
+
+void EdgeDetector::scan_frame(const EdgeConfig& cfg, const uint8_t* remap, uint32_t width,
+                              uint32_t height, std::vector<EdgeRecord>& edges) {
+  auto at = [&](uint32_t x, uint32_t y) { return remap[size_t{y} * width + x]; };
+  auto col = [&](uint32_t x, uint32_t y) {
+    return Column{y >= 2 ? at(x, y - 2) : uint8_t{0}, y >= 1 ? at(x, y - 1) : uint8_t{0}, at(x, y)};
+  };
+  for (uint32_t y = 0; y < height; ++y) {
+    for (uint32_t x = 0; x < width; ++x) {
+      const Column c0 = x >= 2 ? col(x - 2, y) : Column{};
+      const Column c1 = x >= 1 ? col(x - 1, y) : Column{};
+      const Column c2 = col(x, y);
+      const Window w{c0.top, c0.mid, c0.bot, c1.top, c1.mid, c1.bot, c2.top, c2.mid, c2.bot};
+      EdgeRecord e;
+      if (detect(cfg.mode, cfg.threshold, x, y, w, &e)) edges.push_back(e);
+    }
+  }
+}
+
+}  // namespace ceilnav::stream

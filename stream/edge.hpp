@@ -1,0 +1,118 @@
+// edge: the edge detector of seed 002 eq. 17. An edge point is a pixel whose
+// difference to its neighbour (horizontal, vertical or a 3x3 Sobel gradient)
+// exceeds a threshold; every edge point becomes one beat of an AXI4-Stream
+// master through a FIFO, with a per-frame trailer. See docs/blocks/edge.md.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "common/edge_record.hpp"
+#include "fixedpoint/datapath.hpp"
+#include "stream/beat.hpp"
+
+namespace ceilnav::stream {
+
+// The widths live in fixedpoint/datapath.hpp (with their proofs).
+namespace edge_widths {
+using namespace fp::datapath::edge;  // NOLINT(google-build-using-namespace)
+}  // namespace edge_widths
+
+// m_axis_edges: tdata as pack_edge_beat() / pack_edge_trailer() make it.
+struct EdgeBeat {
+  bool tvalid = false;
+  bool tlast = false;  // the frame's trailer
+  uint64_t tdata = 0;
+
+  friend bool operator==(const EdgeBeat&, const EdgeBeat&) = default;
+};
+
+// The configuration port (EDGE_CONTROL), latched at the SOF pixel.
+struct EdgeConfig {
+  bool enable = false;
+  EdgeMode mode = EdgeMode::kHorizontal;
+  uint16_t threshold = 32;  // 12 bits: an edge point has magnitude > threshold
+
+  friend bool operator==(const EdgeConfig&, const EdgeConfig&) = default;
+};
+
+// Counters of one frame (published at its EOF pixel).
+struct EdgeStats {
+  uint32_t edges_emitted = 0;  // pushed into the FIFO (kFrameEdgeCountBits)
+  uint32_t edges_dropped = 0;  // lost because the FIFO was full
+
+  friend bool operator==(const EdgeStats&, const EdgeStats&) = default;
+};
+
+class EdgeDetector {
+ public:
+  static constexpr uint32_t kDefaultFifoDepth = 1024;
+
+  // fifo_depth: entries of the edge FIFO memory, a power of two >= 8 (as the
+  // RTL's FifoDepth); one entry is kept free for the frame's trailer.
+  explicit EdgeDetector(uint32_t fifo_depth = kDefaultFifoDepth);
+
+  // Synchronous active-low reset: FIFO empty, output idle, counters zero. The
+  // line buffer keeps its contents (a frame reads only rows it wrote).
+  void reset();
+
+  // Configuration input port; its value at the SOF pixel's edge is latched.
+  void set_config(const EdgeConfig& cfg) { cfg_in_ = cfg; }
+
+  // One rising clock edge: samples the LutBeat port and m_axis_edges_tready.
+  void clock(const LutBeat& in, bool m_axis_edges_tready);
+
+  // Registered outputs.
+  EdgeBeat m_axis_edges() const { return out_q_; }
+  bool done() const { return done_q_; }  // one-cycle pulse: last_frame_stats() just updated
+  const EdgeStats& last_frame_stats() const { return stats_q_; }
+  uint32_t fifo_occupancy() const { return fifo_count_q_; }  // memory entries in use
+  uint32_t fifo_depth() const { return static_cast<uint32_t>(fifo_.size()); }
+  // Trailers lost because the FIFO was full at a frame's end or abort;
+  // cumulative since reset, saturating. The next stored trailer carries
+  // kEdgeTrailerOverflow.
+  uint32_t trailers_lost() const { return trailers_lost_q_; }
+
+  // Fast path: the edge points of a whole frame (row-major remap bytes) in
+  // emission order, as the clocked path finds them with an infinite FIFO.
+  static void scan_frame(const EdgeConfig& cfg, const uint8_t* remap, uint32_t width,
+                         uint32_t height, std::vector<EdgeRecord>& edges);
+
+ private:
+  struct Entry {
+    bool last = false;
+    uint64_t tdata = 0;
+  };
+  // One column of the 3x3 window: rows y-2, y-1, y.
+  struct Column {
+    uint8_t top = 0;
+    uint8_t mid = 0;
+    uint8_t bot = 0;
+  };
+
+  EdgeConfig cfg_in_{};  // input port
+  EdgeConfig cfg_q_{};   // latched at SOF
+
+  bool frame_open_q_ = false;
+  uint16_t x_q_ = 0;  // position of the next pixel (checked against the beat)
+  uint16_t y_q_ = 0;
+  Column win1_q_{};  // window column x-1
+  Column win2_q_{};  // window column x-2
+  // Line buffer (BRAM): per column the pixels of rows y-1 and y-2.
+  std::vector<uint8_t> line1_;
+  std::vector<uint8_t> line2_;
+
+  EdgeStats frame_q_{};  // counters of the open frame
+  EdgeStats stats_q_{};  // latched at the last completed frame's EOF
+  bool done_q_ = false;
+  bool overflow_sticky_q_ = false;  // a trailer was lost: flag the next stored one
+  uint32_t trailers_lost_q_ = 0;
+
+  std::vector<Entry> fifo_;
+  uint32_t fifo_head_q_ = 0;
+  uint32_t fifo_count_q_ = 0;
+  EdgeBeat out_q_{};  // output register of the FIFO
+};
+
+}  // namespace ceilnav::stream
