@@ -69,6 +69,23 @@ std::vector<uint64_t> hough_ref_double(const stream::HoughShape& shape,
   });
 }
 
+std::vector<EdgePoint> line_points(double rho, double theta_deg, int w, int h) {
+  const double t = theta_deg * std::numbers::pi / 180.0;
+  const double c = std::cos(t);
+  const double s = std::sin(t);
+  std::vector<EdgePoint> p;
+  const bool by_column = std::abs(s) > std::abs(c);
+  for (int u = 0; u < (by_column ? w : h); ++u) {
+    const auto v = static_cast<int>(std::lround(by_column ? (rho - u * c) / s : (rho - u * s) / c));
+    if (v >= 0 && v < (by_column ? h : w)) {
+      const auto a = static_cast<uint16_t>(u);
+      const auto b = static_cast<uint16_t>(v);
+      p.push_back(by_column ? EdgePoint{a, b} : EdgePoint{b, a});
+    }
+  }
+  return p;
+}
+
 HoughPeak hough_peak(const stream::HoughShape& shape, const stream::HoughConfig& cfg,
                      const std::vector<uint64_t>& acc) {
   const stream::ThetaRange range = stream::theta_range(shape, cfg);

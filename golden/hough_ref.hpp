@@ -31,6 +31,10 @@ std::vector<uint64_t> hough_ref_double(const stream::HoughShape& shape,
                                        const stream::HoughConfig& cfg,
                                        const std::vector<EdgePoint>& edges);
 
+// The pixels of the line x cos(theta) + y sin(theta) = rho inside w x h: one
+// per column (or per row, for a steep line), rounded to the nearest pixel.
+std::vector<EdgePoint> line_points(double rho, double theta_deg, int w, int h);
+
 struct HoughPeak {
   double rho = 0.0;    // pixels (the centre of the bin: index * 2^rho_shift - W)
   double theta = 0.0;  // radians

@@ -72,6 +72,8 @@ module hough #(
   localparam int unsigned WBits     = ceilnav_widths_pkg::HoughWeightBits;
   localparam int unsigned CoordBits = ceilnav_pkg::CoordBits;
   localparam int unsigned CntBits   = 32;
+  localparam int unsigned CntBits1  = CntBits + 1;
+  localparam int unsigned AccBits1  = AccBits + 1;
   localparam int unsigned LaneCnt   = $clog2(Lanes + 1);  // 0 .. Lanes
   localparam logic [AccBits-1:0] AccMax = '1;
 
@@ -79,24 +81,21 @@ module hough #(
   typedef logic [1:0] state_t;
   localparam state_t StIdle = 2'd0, StVote = 2'd1, StSwap = 2'd2, StClear = 2'd3;
 
-  // cos / sin of theta cell t (degrees t * ThetaStep), s1.14
-  function automatic logic signed [15:0] cos_of(input logic [7:0] t);
-    cos_of = '0;
+  // cos (sin_sel 0) or sin (sin_sel 1) of theta cell t (t * ThetaStep degrees), s1.14
+  function automatic logic signed [15:0] trig_of(input logic [7:0] t, input logic sin_sel);
+    trig_of = '0;
     for (int i = 0; i < NTheta; i++) begin
-      if (t == 8'(i)) cos_of = ceilnav_widths_pkg::HoughCos[16 * i * ThetaStep +: 16];
-    end
-  endfunction
-  function automatic logic signed [15:0] sin_of(input logic [7:0] t);
-    sin_of = '0;
-    for (int i = 0; i < NTheta; i++) begin
-      if (t == 8'(i)) sin_of = ceilnav_widths_pkg::HoughSin[16 * i * ThetaStep +: 16];
+      if (t == 8'(i)) begin
+        trig_of = sin_sel ? ceilnav_widths_pkg::HoughSin[16 * i * ThetaStep +: 16]
+                          : ceilnav_widths_pkg::HoughCos[16 * i * ThetaStep +: 16];
+      end
     end
   endfunction
 
   function automatic logic [CntBits-1:0] sat_add(input logic [CntBits-1:0] a,
                                                   input logic [LaneCnt-1:0] n);
     logic [CntBits:0] s;
-    s = {1'b0, a} + (CntBits + 1)'(n);
+    s = {1'b0, a} + CntBits1'(n);
     sat_add = s[CntBits] ? '1 : s[CntBits-1:0];
   endfunction
 
@@ -150,7 +149,7 @@ module hough #(
   assign rd_rho  = rd_index_i[RhoBits-1:0];
   assign rd_ok   = rd_en_i && res_valid_q && 32'(rd_j) < NTheta;
   assign rd_lane = 32'(rd_j) % Lanes;
-  assign rd_addr = addr_t'({SlotBits'(32'(rd_j) / Lanes), rd_rho});
+  assign rd_addr = AddrBits'({SlotBits'(32'(rd_j) / Lanes), rd_rho});
 
   // Per lane: the vote of stage 1, two BRAM banks (one write port, one read
   // port each) and stage 2 of the read-modify-write.
@@ -172,8 +171,8 @@ module hough #(
     assign t        = 8'(9'(first_q) + j);
     assign xs       = SumBits'(x_q);
     assign ys       = SumBits'(y_q);
-    assign cs       = SumBits'(cos_of(t));
-    assign ss       = SumBits'(sin_of(t));
+    assign cs       = SumBits'(trig_of(t, 1'b0));
+    assign ss       = SumBits'(trig_of(t, 1'b1));
     // W << 14 and half a bin (round to the nearest bin)
     assign bias     = SumBits'({width_q, Frac'(0)}) + (SumBits'(1) << (Frac - 1 + 32'(rshift_q)));
     assign sum      = xs * cs + ys * ss + bias;
@@ -181,7 +180,7 @@ module hough #(
     assign in_range = !sum[SumBits-1] && shifted < SumBits'(RhoBins);
     assign vote[l]  = state_q == StVote && active && in_range;
     assign drop[l]  = state_q == StVote && active && !in_range;
-    assign vaddr    = addr_t'({slot_q[SlotBits-1:0], shifted[RhoBits-1:0]});
+    assign vaddr    = AddrBits'({slot_q[SlotBits-1:0], shifted[RhoBits-1:0]});
 
     // Stage 2: the cell read on the previous edge (or the value this lane
     // wrote on the previous edge, when the same cell was read then) + weight.
@@ -191,7 +190,7 @@ module hough #(
     logic [AccBits:0]   acc_sum;
     assign old     = s1_fwd_q ? last_q
                               : bank_rd_q[(32'(acc_q) * Lanes + l) * AccBits +: AccBits];
-    assign acc_sum = {1'b0, old} + (AccBits + 1)'(s1_weight_q);
+    assign acc_sum = {1'b0, old} + AccBits1'(s1_weight_q);
     assign sat[l]  = s1_vote_q[l] && acc_sum > {1'b0, AccMax};
     assign new_val = acc_sum > {1'b0, AccMax} ? AccMax : acc_sum[AccBits-1:0];
 
@@ -270,7 +269,7 @@ module hough #(
   always_comb begin
     next = state_q;
     case (state_q)
-      StClear: if (clr_ptr_q == addr_t'(Words - 1)) next = StIdle;
+      StClear: if (clr_ptr_q == AddrBits'(Words - 1)) next = StIdle;
       StSwap:  next = StClear;
       StVote:  if (slot_q == last_slot_q) next = StIdle;
       default: ;
@@ -321,7 +320,7 @@ module hough #(
       {c_edges_q, c_bad_q, c_votes_q, c_drop_q, c_sat_q, c_tre_q, c_trf_q} <=
           {c_edges_d, c_bad_d, c_votes_d, c_drop_d, c_sat_d, c_tre_d, c_trf_d};
       case (state_q)
-        StClear: clr_ptr_q <= clr_ptr_q == addr_t'(Words - 1) ? '0 : clr_ptr_q + addr_t'(1);
+        StClear: clr_ptr_q <= clr_ptr_q == AddrBits'(Words - 1) ? '0 : clr_ptr_q + AddrBits'(1);
         StSwap: begin
           {p_edges_q, p_bad_q, p_votes_q, p_drop_q, p_sat_q, p_tre_q, p_trf_q} <=
               {c_edges_d, c_bad_d, c_votes_d, c_drop_d, c_sat_d, c_tre_d, c_trf_d};

@@ -136,6 +136,26 @@ std::vector<uint32_t> Hough::results() const {
   return out;
 }
 
+void Hough::vote_into(int lane, uint32_t addr, uint32_t weight) {
+  uint32_t& c = word(acc_q_, lane, addr);
+  const uint64_t sum = uint64_t{c} + weight;
+  if (sum > shape_.acc_max()) {
+    c = shape_.acc_max();
+    bump(cnt_.saturated, 1);
+  } else {
+    c = static_cast<uint32_t>(sum);
+  }
+  bump(cnt_.votes, 1);
+}
+
+void Hough::clear_bank(int bank) {
+  for (int l = 0; l < shape_.lanes; ++l) {
+    for (uint32_t a = 0; a < shape_.lane_words(); ++a) {
+      word(bank, l, a) = 0;
+    }
+  }
+}
+
 void Hough::clock(const EdgeBeat& in, const HoughConfig& cfg, bool rd_en, uint32_t rd_index) {
   // Everything below samples the state before this edge.
   const uint32_t rd = rd_en ? read_port(rd_index) : 0u;
@@ -148,15 +168,7 @@ void Hough::clock(const EdgeBeat& in, const HoughConfig& cfg, bool rd_en, uint32
     if (!s1_[l].vote) {
       continue;
     }
-    uint32_t& c = word(acc_q_, static_cast<int>(l), s1_[l].addr);
-    const uint64_t sum = uint64_t{c} + s1_weight_q_;
-    if (sum > shape_.acc_max()) {
-      c = shape_.acc_max();
-      bump(cnt_.saturated, 1);
-    } else {
-      c = static_cast<uint32_t>(sum);
-    }
-    bump(cnt_.votes, 1);
+    vote_into(static_cast<int>(l), s1_[l].addr, s1_weight_q_);
   }
 
   // Stage 1: in kVote, slot slot_q_ of the held edge issues one vote per lane.
@@ -264,11 +276,7 @@ void Hough::process_frame(const std::vector<uint64_t>& edges, uint64_t trailer,
     throw std::logic_error("Hough::process_frame: the block is busy");
   }
   if (state_q_ == State::kClear) {  // as the rest of the sweep would
-    for (int l = 0; l < shape_.lanes; ++l) {
-      for (uint32_t a = 0; a < shape_.lane_words(); ++a) {
-        word(acc_q_, l, a) = 0;
-      }
-    }
+    clear_bank(acc_q_);
     clr_ptr_q_ = 0;
     state_q_ = State::kIdle;
   }
@@ -306,15 +314,7 @@ void Hough::process_frame(const std::vector<uint64_t>& edges, uint64_t trailer,
       }
       const int lane = j & (shape_.lanes - 1);
       const auto slot = static_cast<uint32_t>(j >> shape_.lane_bits());
-      uint32_t& c = word(acc_q_, lane, slot * shape_.rho_bins() + idx);
-      const uint64_t sum = uint64_t{c} + w;
-      if (sum > shape_.acc_max()) {
-        c = shape_.acc_max();
-        bump(cnt_.saturated, 1);
-      } else {
-        c = static_cast<uint32_t>(sum);
-      }
-      bump(cnt_.votes, 1);
+      vote_into(lane, slot * shape_.rho_bins() + idx, w);
     }
   }
   // The trailer, the swap and the clear sweep of the new voting bank.
@@ -325,11 +325,7 @@ void Hough::process_frame(const std::vector<uint64_t>& edges, uint64_t trailer,
   disp_q_ = acc_q_;
   acc_q_ = 1 - acc_q_;
   res_valid_q_ = true;
-  for (int l = 0; l < shape_.lanes; ++l) {
-    for (uint32_t a = 0; a < shape_.lane_words(); ++a) {
-      word(acc_q_, l, a) = 0;
-    }
-  }
+  clear_bank(acc_q_);
   state_q_ = State::kIdle;
   clr_ptr_q_ = 0;
 }

@@ -143,6 +143,9 @@ class Hough {
     return mem_[static_cast<size_t>((bank * shape_.lanes + lane)) * shape_.lane_words() + addr];
   }
   uint32_t read_port(uint32_t rd_index) const;
+  // Stage 2 of one vote: the cell += weight, saturating; counts it.
+  void vote_into(int lane, uint32_t addr, uint32_t weight);
+  void clear_bank(int bank);
   static void bump(uint32_t& c, uint32_t n);
 
   HoughShape shape_;

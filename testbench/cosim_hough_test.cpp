@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <numbers>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -66,7 +67,7 @@ struct HoughPorts {
     d.cfg_theta_count_i = c.cfg.theta_count;
     d.cfg_width_i = c.cfg.width;
     d.rd_en_i = c.rd_en;
-    d.rd_index_i = c.rd_index;
+    d.rd_index_i = static_cast<std::remove_reference_t<decltype(d.rd_index_i)>>(c.rd_index);
   }
   void before_edge(Cosim<Top>& /*sim*/, const Hough& m, const HoughCycle& c) {
     transfers += (c.in.valid && m.tready()) ? 1u : 0u;
@@ -95,24 +96,10 @@ struct HoughPorts {
 template <class Top>
 using HoughBench = BlockBench<Top, Hough, HoughPorts<Top>>;
 
-std::vector<EdgePoint> line_points(Rng& rng, int w, int h) {
-  const double theta = static_cast<double>(rng.uniform(0, 179)) * std::numbers::pi / 180.0;
-  const double rho = static_cast<double>(rng.uniform(-w / 2, w + h));
-  const double c = std::cos(theta);
-  const double s = std::sin(theta);
-  std::vector<EdgePoint> p;
-  if (std::abs(s) > std::abs(c)) {
-    for (int x = 0; x < w; ++x) {
-      const auto y = static_cast<int>(std::lround((rho - x * c) / s));
-      if (y >= 0 && y < h) p.push_back({static_cast<uint16_t>(x), static_cast<uint16_t>(y)});
-    }
-  } else {
-    for (int y = 0; y < h; ++y) {
-      const auto x = static_cast<int>(std::lround((rho - y * s) / c));
-      if (x >= 0 && x < w) p.push_back({static_cast<uint16_t>(x), static_cast<uint16_t>(y)});
-    }
-  }
-  return p;
+// A line of random direction and offset through (or past) w x h.
+std::vector<EdgePoint> random_line(Rng& rng, int w, int h) {
+  return golden::line_points(static_cast<double>(rng.uniform(-w / 2, w + h)),
+                             static_cast<double>(rng.uniform(0, 179)), w, h);
 }
 
 struct Frame {
@@ -136,7 +123,7 @@ Frame random_frame(Rng& rng, const HoughShape& shape) {
     }
   } else if (kind < 8) {
     for (int l = static_cast<int>(rng.uniform(1, 3)); l > 0; --l) {
-      const auto pts = line_points(rng, std::min(w, 160), std::min(h, 120));
+      const auto pts = random_line(rng, std::min(w, 160), std::min(h, 120));
       f.points.insert(f.points.end(), pts.begin(), pts.end());
     }
   } else if (kind < 9) {

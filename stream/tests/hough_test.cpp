@@ -90,26 +90,6 @@ std::vector<EdgePoint> random_points(std::mt19937_64& rng, int n, int w, int h) 
   return p;
 }
 
-// Points of the line x cos(t) + y sin(t) = rho inside w x h.
-std::vector<EdgePoint> line_points(double rho, double theta_deg, int w, int h) {
-  const double t = theta_deg * std::numbers::pi / 180.0;
-  const double c = std::cos(t);
-  const double s = std::sin(t);
-  std::vector<EdgePoint> p;
-  if (std::abs(s) > std::abs(c)) {
-    for (int x = 0; x < w; ++x) {
-      const auto y = static_cast<int>(std::lround((rho - x * c) / s));
-      if (y >= 0 && y < h) p.push_back({static_cast<uint16_t>(x), static_cast<uint16_t>(y)});
-    }
-  } else {
-    for (int y = 0; y < h; ++y) {
-      const auto x = static_cast<int>(std::lround((rho - y * s) / c));
-      if (x >= 0 && x < w) p.push_back({static_cast<uint16_t>(x), static_cast<uint16_t>(y)});
-    }
-  }
-  return p;
-}
-
 HoughConfig random_config(std::mt19937_64& rng, const HoughShape& shape, int width) {
   HoughConfig cfg;
   cfg.unit_weight = std::bernoulli_distribution(0.3)(rng);
@@ -296,7 +276,7 @@ TEST(Hough, GoldenPeaksAgreeWithDoubleAndOpenCvWithinOneBin) {
   const int hh = 240;
   int compared = 0;
   for (const Line& line : lines) {
-    auto pts = line_points(line.rho, line.theta, w, hh);
+    auto pts = golden::line_points(line.rho, line.theta, w, hh);
     ASSERT_GT(pts.size(), 50u);
     HoughConfig cfg;
     cfg.unit_weight = true;
