@@ -75,7 +75,8 @@ module hough #(
   localparam int unsigned CntBits1  = CntBits + 1;
   localparam int unsigned AccBits1  = AccBits + 1;
   localparam int unsigned LaneCnt   = $clog2(Lanes + 1);  // 0 .. Lanes
-  localparam logic [AccBits-1:0] AccMax = '1;
+  // Largest cell value, 2^AccBits - 1 (a difference: Yosys 0.23 reads '1 here as 1)
+  localparam logic [AccBits-1:0] AccMax = AccBits'((64'd1 << AccBits) - 64'd1);
 
   typedef logic [AddrBits-1:0] addr_t;
   typedef logic [1:0] state_t;

@@ -54,6 +54,8 @@ struct HoughPorts {
   using Stim = HoughCycle;
   uint64_t transfers = 0;
   uint64_t dones = 0;
+  uint64_t frames_dropping = 0;    // published frames with dropped votes
+  uint64_t frames_saturating = 0;  // published frames with clipped cells
 
   void drive(Top& d, const HoughCycle& c) {
     d.s_axis_edges_tvalid_i = c.in.valid;
@@ -88,7 +90,11 @@ struct HoughPorts {
     ok = sim.check("saturated_o", d.saturated_o, k.saturated) && ok;
     ok = sim.check("trailer_edges_o", d.trailer_edges_o, k.trailer_edges) && ok;
     ok = sim.check("trailer_flags_o", d.trailer_flags_o, k.trailer_flags) && ok;
-    dones += m.done() ? 1u : 0u;
+    if (m.done()) {
+      ++dones;
+      frames_dropping += k.dropped > 0 ? 1u : 0u;
+      frames_saturating += k.saturated > 0 ? 1u : 0u;
+    }
     return ok;
   }
 };
@@ -196,7 +202,7 @@ void append_frame(std::vector<HoughCycle>& out, Rng& rng, const HoughShape& shap
 // Runs stimulus built on the fly (a beat is repeated until the model takes it).
 template <class Top>
 void run_random(const char* name, uint64_t default_seed, const HoughShape& shape,
-                uint64_t budget_cycles, uint64_t min_frames) {
+                uint64_t budget_cycles, uint64_t min_frames, bool saturates) {
   const uint64_t seed = cosim_seed(default_seed);
   Rng rng(seed);
   HoughBench<Top> bench(name, seed, shape);
@@ -264,14 +270,18 @@ void run_random(const char* name, uint64_t default_seed, const HoughShape& shape
   EXPECT_GT(frames, min_frames);
   EXPECT_GT(bench.ports().dones, min_frames / 2);
   EXPECT_GT(checked_cells, 4 * min_frames);
+  EXPECT_GT(bench.ports().frames_dropping, 0u);
+  if (saturates) {
+    EXPECT_GT(bench.ports().frames_saturating, 0u);
+  }
 }
 
 TEST(CosimHough, SmallRandomFramesReadsAndResets) {
-  run_random<Vhough>("hough_small", 0x48A00001, kSmall, 400'000, 100);
+  run_random<Vhough>("hough_small", 0x48A00001, kSmall, 400'000, 100, false);
 }
 
 TEST(CosimHough, BigRandomFramesReadsAndResets) {
-  run_random<Vhough_big>("hough_big", 0x48A00002, kBig, 800'000, 25);
+  run_random<Vhough_big>("hough_big", 0x48A00002, kBig, 800'000, 25, true);
 }
 
 // Back to back frames with no gaps, a full readout of each published frame
