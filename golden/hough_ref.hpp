@@ -11,7 +11,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "stream/hough.hpp"
+#include "common/hough_params.hpp"
 
 namespace ceilnav::golden {
 

@@ -9,32 +9,11 @@ namespace ceilnav::stream {
 
 namespace {
 
-int bits_for(uint32_t v) {
-  return fp::datapath::bits_for(v);
-}
-
 constexpr uint32_t kCoordLimit = fp::datapath::kMaxWidth;  // x, y < 2048
 constexpr int kFrac = fp::hough::kTrigFrac;
 static_assert(kFrac == fp::datapath::hough::kTrigFrac);
 
 }  // namespace
-
-int HoughShape::lane_bits() const {
-  return bits_for(static_cast<uint32_t>(lanes)) - 1;
-}
-
-int HoughShape::index_bits() const {
-  return bits_for(static_cast<uint32_t>(n_theta() - 1)) + rho_bits;
-}
-
-ThetaRange theta_range(const HoughShape& shape, const HoughConfig& cfg) {
-  const int n = shape.n_theta();
-  ThetaRange r;
-  r.first = std::min<int>(cfg.theta_first, n - 1);
-  const int avail = n - r.first;
-  r.count = (cfg.theta_count == 0 || cfg.theta_count > avail) ? avail : cfg.theta_count;
-  return r;
-}
 
 uint32_t hough_weight(const HoughConfig& cfg, uint32_t y) {
   return cfg.unit_weight ? 1u : ((y + 1u) >> (cfg.weight_shift & 15u));
