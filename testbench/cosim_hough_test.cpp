@@ -132,11 +132,11 @@ Frame random_frame(Rng& rng, const HoughShape& shape) {
       const auto pts = random_line(rng, std::min(w, 160), std::min(h, 120));
       f.points.insert(f.points.end(), pts.begin(), pts.end());
     }
-  } else if (kind < 9) {
+  } else {  // one point many times: the same cells on every edge (saturates)
     f.points.assign(
-        static_cast<size_t>(rng.uniform(1, 40)),
+        static_cast<size_t>(rng.uniform(1, 60)),
         EdgePoint{rng.uniform_as<uint16_t>(0, w - 1), rng.uniform_as<uint16_t>(0, h - 1)});
-  }  // else: an empty frame
+  }  // a random list may be empty: an empty frame
   for (const EdgePoint& p : f.points) {
     f.words.push_back(stream::edge_word(p.x, p.y, static_cast<uint32_t>(rng.uniform(0, 0x7FFF))));
   }
