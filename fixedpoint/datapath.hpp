@@ -180,6 +180,29 @@ static_assert(kBinBits == 23);
 
 }  // namespace histogram
 
+// hough: the weight of a vote (seed 002 eq. 18, w = (row - r) / s with r
+// counted from the bottom: row - r = y + 1 for y counted from the top) is
+// (y + 1) >> weight_shift, at most 2^kCoordBits: kWeightBits, exact (no
+// saturation needed). The accumulator cells have a width chosen per
+// configuration (RTL parameter AccBits) and saturate; the per-frame counters
+// are kCounterBits wide and saturate. rho index arithmetic (s1.14 table,
+// fixedpoint/hough_trig.hpp): x C + y S + (W << 14) + 2^(13 + rho_shift) with
+// x, y <= 2^kCoordBits - 1, |C|, |S| <= 2^14, the bias W < 2^12 (register
+// field) and rho_shift <= 7 needs kRhoSumBits signed bits.
+namespace hough {
+
+inline constexpr int kWeightBits = bits_for(kMaxHeight);  // (y + 1) for y <= 2047
+inline constexpr int kTrigFrac = 14;
+inline constexpr int kWidthFieldBits = 12;
+inline constexpr int kMaxRhoShift = 7;
+inline constexpr uint64_t kRhoSumMax =
+    ((2 * (uint64_t{kMaxWidth} - 1) + ((uint64_t{1} << kWidthFieldBits) - 1)) << kTrigFrac) +
+    (uint64_t{1} << (kTrigFrac - 1 + kMaxRhoShift));
+inline constexpr int kRhoSumBits = bits_for(kRhoSumMax) + 1;  // + sign
+static_assert(kWeightBits == 12 && kRhoSumBits == 29);
+
+}  // namespace hough
+
 // class_moments: for frames up to 2^k x 2^k the sums of x^a y^b over a full
 // frame need {2k+1, 3k-1, 3k-1, 4k-1, 4k-2, 4k-1} bits -- the maxima of the
 // mask moments of moment_gen (a class mask of all ones is the worst case).

@@ -378,5 +378,10 @@ module ceilnav_top #(
   logic unused;
   assign unused = ^{pipe_tdata.sum_xw[WordBits-1:ceilnav_pkg::SumXwBits],
                     pipe_tdata.sum_w[WordBits-1:ceilnav_pkg::SumWBits], reg2hw.edge_control};
+  // The HOUGH_* registers are defined but the hough block is not part of this
+  // device yet (docs/blocks/hough.md): its configuration drives nothing here.
+  logic unused_hough;
+  assign unused_hough = ^{reg2hw.hough_control, reg2hw.hough_geometry, reg2hw.hough_index,
+                          reg2hw.hough_data};
 
 endmodule

@@ -111,8 +111,10 @@ struct Results {
 };
 
 bool is_result(uint32_t offset) {
+  // HOUGH_* (0x300 ..) belong to the hough block, which is not in this device.
   return offset >= r::res_frame_index::kOffset && offset != r::frame_count::kOffset &&
-         (offset < r::cnt_early_eol::kOffset || offset >= r::mom_grey_lo::kOffset);
+         (offset < r::cnt_early_eol::kOffset || offset >= r::mom_grey_lo::kOffset) &&
+         offset < r::hough_control::kOffset;
 }
 
 std::vector<uint32_t> read_result_words(Bench& b) {

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -27,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fixedpoint/datapath.hpp"
+#include "fixedpoint/hough_trig.hpp"
 #include "regmap_model.hpp"
 
 namespace {
@@ -464,6 +466,30 @@ std::string sv_widths() {
   line("EdgeGBits", dp::edge::kSobelGBits, "edge Sobel gx, gy (signed)");
   line("EdgeMagBits", dp::edge::kSobelMagBits, "edge Sobel |gx| + |gy|");
   line("EdgeCountBits", dp::edge::kFrameEdgeCountBits, "edge edges per frame");
+  line("HoughWeightBits", dp::hough::kWeightBits, "hough vote weight (y + 1) >> shift");
+  line("HoughRhoSumBits", dp::hough::kRhoSumBits, "hough x C + y S + (W << 14), signed");
+  line("HoughTrigFrac", ceilnav::fp::hough::kTrigFrac, "hough cos/sin table: s1.14");
+  // The cos/sin table of fixedpoint/hough_trig.hpp: entry k (k degrees) at
+  // bits [16 k +: 16], two's complement s1.14.
+  {
+    const auto& t = ceilnav::fp::hough::trig_table();
+    const int n = ceilnav::fp::hough::kTableEntries;
+    const int bits = ceilnav::fp::hough::kTrigBits;
+    for (const bool is_cos : {true, false}) {
+      o << "  // hough " << (is_cos ? "cos" : "sin") << "(k degrees) * 2^14, k = 0 .. " << n - 1
+        << " (entry k at bits [" << bits << " k +: " << bits << "])\n"
+        << "  localparam logic [" << n * bits - 1 << ":0] Hough" << (is_cos ? "Cos" : "Sin")
+        << " = {";
+      for (int k = n - 1; k >= 0; --k) {
+        const auto v = static_cast<uint32_t>(is_cos ? t.cos[static_cast<size_t>(k)]
+                                                    : t.sin[static_cast<size_t>(k)]) &
+                       ((1u << bits) - 1u);
+        o << (k == n - 1 ? "" : ",") << ((n - 1 - k) % 8 == 0 ? "\n    " : " ") << bits << "'h"
+          << std::hex << std::setw(4) << std::setfill('0') << v << std::dec << std::setfill(' ');
+      }
+      o << "\n  };\n";
+    }
+  }
   line("M00Bits", cm::kMomentBits[0], "class_moments m00");
   line("M10Bits", cm::kMomentBits[1], "class_moments m10, m01");
   line("M20Bits", cm::kMomentBits[3], "class_moments m20, m02");

@@ -1,0 +1,382 @@
+// hough: weighted Hough voter (seed 002 step 3, eq. 18). Each edge point
+// (x, y) of s_axis_edges votes, for every theta of the configured range, into
+// cell (theta, rho index) with weight (y + 1) >> weight_shift (or 1):
+// rho index = floor((x C + y S + (W << 14) + 2^(13 + rho_shift)) / 2^(14 +
+// rho_shift)) (round to nearest), C, S the
+// s1.14 cos/sin table of ceilnav_widths_pkg (fixedpoint/hough_trig.hpp).
+// theta cell j of the range goes to lane j mod Lanes, slot j / Lanes; each
+// lane has one BRAM per bank of Slots x 2^RhoBits cells, so an edge takes
+// ceil(count / Lanes) cycles (tready low meanwhile). Per lane the vote is a
+// pipelined read-modify-write: read on the issuing edge, saturating write on
+// the next one, with forwarding of the write to the read of the same cell on
+// the next edge. Two banks: the trailer publishes the voting bank (state
+// SWAP, one edge after the trailer so that its last write is in), the old
+// result bank becomes the voting bank and is cleared by a sweep (CLEAR, one
+// word per lane per edge) before the next edge is accepted.
+// Cycle-exact twin of stream/hough.cpp; see docs/blocks/hough.md.
+// Not part of ceilnav_top: a standalone block with its own co-simulation.
+module hough #(
+  parameter int unsigned Lanes     = 4,   // parallel theta lanes, a power of two
+  parameter int unsigned ThetaStep = 4,   // degrees between thetas; divides 180
+  parameter int unsigned RhoBits   = 6,   // 2^RhoBits rho bins
+  parameter int unsigned AccBits   = 16   // cell width (saturating), <= 32
+) (
+  input  logic        clk_i,
+  input  logic        rst_ni,
+
+  // AXI4-Stream edges: word0 = x | y << 16, word1 = magnitude | ...; trailer
+  // (tlast) word0 = edges, word1 = flags.
+  input  logic        s_axis_edges_tvalid_i,
+  output logic        s_axis_edges_tready_o,
+  input  logic [63:0] s_axis_edges_tdata_i,
+  input  logic        s_axis_edges_tlast_i,
+
+  // Configuration (HOUGH_CONTROL, HOUGH_GEOMETRY), sampled with the first beat of a frame
+  input  logic        cfg_enable_i,
+  input  logic        cfg_unit_weight_i,
+  input  logic [3:0]  cfg_weight_shift_i,
+  input  logic [2:0]  cfg_rho_shift_i,
+  input  logic [7:0]  cfg_theta_first_i,
+  input  logic [7:0]  cfg_theta_count_i,
+  input  logic [11:0] cfg_width_i,
+
+  // Result read port (BRAM style, one cycle): index = j << RhoBits | rho
+  input  logic                             rd_en_i,
+  input  logic [$clog2(180 / ThetaStep) + RhoBits - 1:0] rd_index_i,
+  output logic [AccBits-1:0]               rd_data_o,
+
+  output logic        done_o,           // one cycle after a publication
+  output logic        results_valid_o,  // a frame is published
+  output logic [1:0]  state_o,          // 0 idle, 1 vote, 2 swap, 3 clear
+
+  // Published per-frame counters (saturating)
+  output logic [31:0] edges_o,
+  output logic [31:0] bad_edges_o,
+  output logic [31:0] votes_o,
+  output logic [31:0] dropped_o,
+  output logic [31:0] saturated_o,
+  output logic [31:0] trailer_edges_o,
+  output logic [31:0] trailer_flags_o
+);
+
+  localparam int unsigned NTheta    = 180 / ThetaStep;
+  localparam int unsigned JBits     = $clog2(NTheta);  // theta cell index j
+  localparam int unsigned IndexBits = JBits + RhoBits;
+  localparam int unsigned Slots     = (NTheta + Lanes - 1) / Lanes;
+  localparam int unsigned SlotBits  = Slots > 1 ? $clog2(Slots) : 1;
+  localparam int unsigned RhoBins   = 1 << RhoBits;
+  localparam int unsigned Words     = Slots * RhoBins;  // per lane and bank
+  localparam int unsigned AddrBits  = SlotBits + RhoBits;
+  localparam int unsigned Frac      = ceilnav_widths_pkg::HoughTrigFrac;
+  localparam int unsigned SumBits   = ceilnav_widths_pkg::HoughRhoSumBits;
+  localparam int unsigned WBits     = ceilnav_widths_pkg::HoughWeightBits;
+  localparam int unsigned CoordBits = ceilnav_pkg::CoordBits;
+  localparam int unsigned CntBits   = 32;
+  localparam int unsigned CntBits1  = CntBits + 1;
+  localparam int unsigned AccBits1  = AccBits + 1;
+  localparam int unsigned LaneCnt   = $clog2(Lanes + 1);  // 0 .. Lanes
+  // Largest cell value, 2^AccBits - 1 (a difference: Yosys 0.23 reads '1 here as 1)
+  localparam logic [AccBits-1:0] AccMax = AccBits'((64'd1 << AccBits) - 64'd1);
+
+  typedef logic [AddrBits-1:0] addr_t;
+  typedef logic [1:0] state_t;
+  localparam state_t StIdle = 2'd0, StVote = 2'd1, StSwap = 2'd2, StClear = 2'd3;
+
+  // cos (sin_sel 0) or sin (sin_sel 1) of theta cell t (t * ThetaStep degrees), s1.14
+  function automatic logic signed [15:0] trig_of(input logic [7:0] t, input logic sin_sel);
+    trig_of = '0;
+    for (int i = 0; i < NTheta; i++) begin
+      if (t == 8'(i)) begin
+        trig_of = sin_sel ? ceilnav_widths_pkg::HoughSin[16 * i * ThetaStep +: 16]
+                          : ceilnav_widths_pkg::HoughCos[16 * i * ThetaStep +: 16];
+      end
+    end
+  endfunction
+
+  function automatic logic [CntBits-1:0] sat_add(input logic [CntBits-1:0] a,
+                                                  input logic [LaneCnt-1:0] n);
+    logic [CntBits:0] s;
+    s = {1'b0, a} + CntBits1'(n);
+    sat_add = s[CntBits] ? '1 : s[CntBits-1:0];
+  endfunction
+
+  // ---------------------------------------------------------------------------
+  // State
+  state_t state_q;
+  logic   acc_q, disp_q;  // voting bank, result bank (always different)
+  logic   res_valid_q, done_q;
+  addr_t  clr_ptr_q;
+  logic   frame_open_q, frame_en_q;
+  logic   unit_q;
+  logic [3:0]  wshift_q;
+  logic [2:0]  rshift_q;
+  logic [11:0] width_q;
+  logic [7:0]  first_q, count_q, last_slot_q, slot_q;
+  logic [CoordBits-1:0] x_q, y_q;
+
+  // The theta range of the configuration inputs (used when a frame opens).
+  logic [7:0] first_in, count_in, last_slot_in;
+  logic [8:0] avail_in;
+  always_comb begin
+    first_in = cfg_theta_first_i > 8'(NTheta - 1) ? 8'(NTheta - 1) : cfg_theta_first_i;
+    avail_in = 9'(NTheta) - {1'b0, first_in};
+    count_in = (cfg_theta_count_i == 8'd0 || {1'b0, cfg_theta_count_i} > avail_in)
+             ? avail_in[7:0] : cfg_theta_count_i;
+    last_slot_in = 8'((9'(count_in) + 9'(Lanes - 1)) / 9'(Lanes) - 9'd1);
+  end
+
+  logic ready, accept, open_now, en, bad_xy;
+  logic [31:0] word0, word1;
+  assign ready    = state_q == StIdle || (state_q == StVote && slot_q == last_slot_q);
+  assign accept   = ready & s_axis_edges_tvalid_i;
+  assign open_now = accept & ~frame_open_q;
+  assign en       = frame_open_q ? frame_en_q : cfg_enable_i;
+  assign word0    = s_axis_edges_tdata_i[31:0];
+  assign word1    = s_axis_edges_tdata_i[63:32];
+  assign bad_xy   = |word0[15:CoordBits] | |word0[31:16+CoordBits];
+
+  // ---------------------------------------------------------------------------
+  // Stage 1: the votes of slot slot_q of the held edge, one per lane.
+  logic [WBits-1:0] weight;
+  assign weight = unit_q ? WBits'(1) : WBits'((WBits'(y_q) + WBits'(1)) >> wshift_q);
+
+  // Host read
+  logic [JBits-1:0]   rd_j;
+  logic [RhoBits-1:0] rd_rho;
+  logic               rd_ok, rd_en_q, rd_bank_q;
+  logic [31:0]        rd_lane, rd_lane_q;
+  addr_t              rd_addr;
+  assign rd_j    = rd_index_i[IndexBits-1:RhoBits];
+  assign rd_rho  = rd_index_i[RhoBits-1:0];
+  assign rd_ok   = rd_en_i && res_valid_q && 32'(rd_j) < NTheta;
+  assign rd_lane = 32'(rd_j) % Lanes;
+  assign rd_addr = AddrBits'({SlotBits'(32'(rd_j) / Lanes), rd_rho});
+
+  // Per lane: the vote of stage 1, two BRAM banks (one write port, one read
+  // port each) and stage 2 of the read-modify-write.
+  logic [Lanes-1:0] vote, drop, sat, s1_vote_q;
+  logic [WBits-1:0] s1_weight_q;
+  // BRAM read registers: bank b, lane l at [(b Lanes + l) AccBits +: AccBits]
+  logic [2*Lanes*AccBits-1:0] bank_rd_q;
+
+  for (genvar l = 0; l < Lanes; l++) begin : g_lane
+    // Stage 1: cell j of the range, theta index t = first + j.
+    logic [8:0] j;
+    logic [7:0] t;
+    logic signed [SumBits-1:0] xs, ys, cs, ss, bias, sum;
+    logic [SumBits-1:0] shifted;
+    logic active, in_range;
+    addr_t vaddr;
+    assign j        = 9'(slot_q) * 9'(Lanes) + 9'(l);
+    assign active   = j < {1'b0, count_q};
+    assign t        = 8'(9'(first_q) + j);
+    assign xs       = SumBits'(x_q);
+    assign ys       = SumBits'(y_q);
+    assign cs       = SumBits'(trig_of(t, 1'b0));
+    assign ss       = SumBits'(trig_of(t, 1'b1));
+    // W << 14 and half a bin (round to the nearest bin)
+    assign bias     = SumBits'({width_q, Frac'(0)}) + (SumBits'(1) << (Frac - 1 + 32'(rshift_q)));
+    assign sum      = xs * cs + ys * ss + bias;
+    assign shifted  = $unsigned(sum) >> (Frac + 32'(rshift_q));
+    assign in_range = !sum[SumBits-1] && shifted < SumBits'(RhoBins);
+    assign vote[l]  = state_q == StVote && active && in_range;
+    assign drop[l]  = state_q == StVote && active && !in_range;
+    assign vaddr    = AddrBits'({slot_q[SlotBits-1:0], shifted[RhoBits-1:0]});
+
+    // Stage 2: the cell read on the previous edge (or the value this lane
+    // wrote on the previous edge, when the same cell was read then) + weight.
+    logic               s1_fwd_q;
+    addr_t              s1_addr_q;
+    logic [AccBits-1:0] last_q, old, new_val;
+    logic [AccBits:0]   acc_sum;
+    assign old     = s1_fwd_q ? last_q
+                              : bank_rd_q[(32'(acc_q) * Lanes + l) * AccBits +: AccBits];
+    assign acc_sum = {1'b0, old} + AccBits1'(s1_weight_q);
+    assign sat[l]  = s1_vote_q[l] && acc_sum > {1'b0, AccMax};
+    assign new_val = acc_sum > {1'b0, AccMax} ? AccMax : acc_sum[AccBits-1:0];
+
+    for (genvar b = 0; b < 2; b++) begin : g_bank
+      (* ram_style = "block" *) logic [AccBits-1:0] mem [Words];
+      initial begin
+        for (int i = 0; i < Words; i++) begin
+          mem[i] = '0;
+        end
+      end
+      logic  is_acc, rd_en, wr_en;
+      addr_t raddr, waddr;
+      assign is_acc = acc_q == 1'(b);
+      assign rd_en  = is_acc ? vote[l] : (rd_ok && rd_lane == l);
+      assign raddr  = is_acc ? vaddr : rd_addr;
+      // No write on an edge in reset (the registers may hold anything there).
+      assign wr_en  = rst_ni && is_acc && (s1_vote_q[l] || state_q == StClear);
+      assign waddr  = s1_vote_q[l] ? s1_addr_q : clr_ptr_q;
+      always_ff @(posedge clk_i) begin
+        if (wr_en) begin
+          mem[waddr] <= s1_vote_q[l] ? new_val : '0;
+        end
+        if (rd_en) begin
+          bank_rd_q[(b * Lanes + l) * AccBits +: AccBits] <= mem[raddr];
+        end
+      end
+    end
+
+    always_ff @(posedge clk_i) begin
+      if (!rst_ni) begin
+        s1_vote_q[l] <= 1'b0;
+        s1_fwd_q     <= 1'b0;
+        s1_addr_q    <= '0;
+        last_q       <= '0;
+      end else begin
+        s1_vote_q[l] <= vote[l];
+        s1_fwd_q     <= vote[l] && s1_vote_q[l] && s1_addr_q == vaddr;
+        s1_addr_q    <= vaddr;
+        if (s1_vote_q[l]) begin
+          last_q <= new_val;
+        end
+      end
+    end
+  end
+
+  // ---------------------------------------------------------------------------
+  // Counters of the open frame (next values), published on the SWAP edge.
+  logic [CntBits-1:0] c_edges_q, c_bad_q, c_votes_q, c_drop_q, c_sat_q, c_tre_q, c_trf_q;
+  logic [CntBits-1:0] c_edges_d, c_bad_d, c_votes_d, c_drop_d, c_sat_d, c_tre_d, c_trf_d;
+  logic [CntBits-1:0] p_edges_q, p_bad_q, p_votes_q, p_drop_q, p_sat_q, p_tre_q, p_trf_q;
+
+  function automatic logic [LaneCnt-1:0] popcount(input logic [Lanes-1:0] v);
+    popcount = '0;
+    for (int i = 0; i < Lanes; i++) begin
+      popcount = popcount + LaneCnt'(v[i]);
+    end
+  endfunction
+
+  logic take_edge, take_bad, take_trailer;
+  assign take_trailer = accept && s_axis_edges_tlast_i && en;
+  assign take_edge    = accept && !s_axis_edges_tlast_i && en && !bad_xy;
+  assign take_bad     = accept && !s_axis_edges_tlast_i && en && bad_xy;
+
+  always_comb begin
+    c_votes_d = sat_add(c_votes_q, popcount(s1_vote_q));
+    c_sat_d   = sat_add(c_sat_q, popcount(sat));
+    c_drop_d  = sat_add(c_drop_q, popcount(drop));
+    c_edges_d = sat_add(c_edges_q, LaneCnt'(take_edge));
+    c_bad_d   = sat_add(c_bad_q, LaneCnt'(take_bad));
+    c_tre_d   = take_trailer ? word0 : c_tre_q;
+    c_trf_d   = take_trailer ? word1 : c_trf_q;
+  end
+
+  // ---------------------------------------------------------------------------
+  state_t next;
+  always_comb begin
+    next = state_q;
+    case (state_q)
+      StClear: if (clr_ptr_q == AddrBits'(Words - 1)) next = StIdle;
+      StSwap:  next = StClear;
+      StVote:  if (slot_q == last_slot_q) next = StIdle;
+      default: ;
+    endcase
+    if (accept) begin
+      next = StIdle;
+      if (s_axis_edges_tlast_i) begin
+        if (en) next = StSwap;
+      end else if (en && !bad_xy) begin
+        next = StVote;
+      end
+    end
+  end
+
+  always_ff @(posedge clk_i) begin
+    if (!rst_ni) begin
+      state_q      <= StClear;
+      acc_q        <= 1'b0;
+      disp_q       <= 1'b1;
+      res_valid_q  <= 1'b0;
+      done_q       <= 1'b0;
+      clr_ptr_q    <= '0;
+      frame_open_q <= 1'b0;
+      frame_en_q   <= 1'b0;
+      unit_q       <= 1'b0;
+      wshift_q     <= '0;
+      rshift_q     <= '0;
+      width_q      <= '0;
+      first_q      <= '0;
+      count_q      <= 8'd1;
+      last_slot_q  <= '0;
+      slot_q       <= '0;
+      x_q          <= '0;
+      y_q          <= '0;
+      s1_weight_q  <= '0;
+      rd_en_q      <= 1'b0;
+      rd_bank_q    <= 1'b0;
+      rd_lane_q    <= '0;
+      {c_edges_q, c_bad_q, c_votes_q, c_drop_q, c_sat_q, c_tre_q, c_trf_q} <= '0;
+      {p_edges_q, p_bad_q, p_votes_q, p_drop_q, p_sat_q, p_tre_q, p_trf_q} <= '0;
+    end else begin
+      state_q     <= next;
+      done_q      <= 1'b0;
+      s1_weight_q <= weight;
+      rd_en_q     <= rd_ok;
+      rd_bank_q   <= disp_q;
+      rd_lane_q   <= rd_lane;
+      {c_edges_q, c_bad_q, c_votes_q, c_drop_q, c_sat_q, c_tre_q, c_trf_q} <=
+          {c_edges_d, c_bad_d, c_votes_d, c_drop_d, c_sat_d, c_tre_d, c_trf_d};
+      case (state_q)
+        StClear: clr_ptr_q <= clr_ptr_q == AddrBits'(Words - 1) ? '0 : clr_ptr_q + AddrBits'(1);
+        StSwap: begin
+          {p_edges_q, p_bad_q, p_votes_q, p_drop_q, p_sat_q, p_tre_q, p_trf_q} <=
+              {c_edges_d, c_bad_d, c_votes_d, c_drop_d, c_sat_d, c_tre_d, c_trf_d};
+          {c_edges_q, c_bad_q, c_votes_q, c_drop_q, c_sat_q, c_tre_q, c_trf_q} <= '0;
+          disp_q      <= acc_q;
+          acc_q       <= disp_q;
+          res_valid_q <= 1'b1;
+          done_q      <= 1'b1;
+          clr_ptr_q   <= '0;
+        end
+        StVote: if (slot_q != last_slot_q) slot_q <= slot_q + 8'd1;
+        default: ;
+      endcase
+      if (open_now) begin
+        frame_open_q <= 1'b1;
+        frame_en_q   <= cfg_enable_i;
+        unit_q       <= cfg_unit_weight_i;
+        wshift_q     <= cfg_weight_shift_i;
+        rshift_q     <= cfg_rho_shift_i;
+        width_q      <= cfg_width_i;
+        first_q      <= first_in;
+        count_q      <= count_in;
+        last_slot_q  <= last_slot_in;
+      end
+      if (accept && s_axis_edges_tlast_i) begin
+        frame_open_q <= 1'b0;
+      end
+      if (take_edge) begin
+        x_q    <= word0[CoordBits-1:0];
+        y_q    <= word0[16 +: CoordBits];
+        slot_q <= '0;
+      end
+    end
+  end
+
+  assign s_axis_edges_tready_o = ready;
+  assign rd_data_o       = rd_en_q ? bank_rd_q[(32'(rd_bank_q) * Lanes + rd_lane_q) * AccBits +: AccBits]
+                                   : '0;
+  assign done_o          = done_q;
+  assign results_valid_o = res_valid_q;
+  assign state_o         = state_q;
+  assign edges_o         = p_edges_q;
+  assign bad_edges_o     = p_bad_q;
+  assign votes_o         = p_votes_q;
+  assign dropped_o       = p_drop_q;
+  assign saturated_o     = p_sat_q;
+  assign trailer_edges_o = p_tre_q;
+  assign trailer_flags_o = p_trf_q;
+
+`ifndef SYNTHESIS
+  // The sweep never runs while a vote is written.
+  SweepDisjoint: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      !(state_q == StClear && |s1_vote_q));
+  // The voting and the result banks differ.
+  BanksDiffer: assert property (@(posedge clk_i) disable iff (!rst_ni) acc_q != disp_q);
+`endif
+
+endmodule
