@@ -70,6 +70,14 @@ sim::DriveConfig drive_config(const DriveOptions& o, const sim::Course& course, 
   // leave room for a real lens model and a mount calibration's residual).
   c.tape_noise.yaw_floor_rad = 0.002 * std::numbers::pi / 180.0;
   c.tape_noise.offset_floor_m = 0.1e-3;
+  // What the frames' errors share (docs/navigation.md, "Systematic errors"):
+  // a tape end's or junction's distance, 1.5 mm over about a metre of travel
+  // (the detector's residual bias at a tape end, docs/results.md
+  // "Junctions"); at the zenith the tape offset, 0.1 mm over 2 m (its error
+  // in the drive has a part of 0.07 mm shared over whole legs; at pitch 60
+  // that part is under 0.02 mm, below the white floor, and has no state).
+  c.ekf.bias.landmark_sigma_m = 1.5e-3;
+  if (o.pitch_deg >= 89.999) c.ekf.bias.tape_offset_sigma_m = 0.1e-3;
   if (!o.vision) {
     // Dead reckoning on purpose: the follower neither slows nor stops for
     // the lack of vision.

@@ -34,7 +34,9 @@ nav::TapeMeasurement tape_measurement(const TapePose& pose, const nav::Measureme
   m.yaw_rad = pose.yaw_rad;
   m.offset_m = pose.offset_m;
   const double offset_rel = noise.ceiling_relative_sigma * std::abs(pose.offset_m);
-  m.covariance = noise.statistical_inflation * pose.covariance;
+  // The inflation is the centre-line fit's (its residuals are correlated from
+  // row to row); the zenith moments' covariance is their quantisation model.
+  m.covariance = (m.zenith ? 1.0 : noise.statistical_inflation) * pose.covariance;
   m.covariance(0, 0) += noise.yaw_floor_rad * noise.yaw_floor_rad;
   m.covariance(1, 1) += noise.offset_floor_m * noise.offset_floor_m + offset_rel * offset_rel;
   return m;

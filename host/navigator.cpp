@@ -101,4 +101,10 @@ FrameOutcome Navigator::process(const cv::Mat& grey) {
   return out;
 }
 
+const TapePose& navigation_pose(const FrameOutcome& out) {
+  if (out.pose.status != Status::ok && out.zenith && out.zenith->status == Status::ok)
+    return *out.zenith;
+  return out.pose;
+}
+
 }  // namespace ceilnav::host

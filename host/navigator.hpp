@@ -73,6 +73,12 @@ struct FrameOutcome {
   std::optional<TapePose> zenith;       // the moments method, when the pitch is 90 deg
 };
 
+// The pose a navigation filter takes from a frame: the centre line when it is
+// ok (it undistorts the run centres and is the more precise at every pitch,
+// the zenith included: docs/host_maths.md section 5), else the zenith
+// moments' pose when that is ok, else the centre line's (not ok) status.
+const TapePose& navigation_pose(const FrameOutcome& out);
+
 class Navigator {
  public:
   // `device` runs the frames: drivers::make_device() for one of the

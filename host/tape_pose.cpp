@@ -250,6 +250,18 @@ TapePose zenith_pose_from_moments(const stream::MomentResults& m, const CameraMo
     return out;
   }
   out.status = Status::ok;
+  // Quantisation of the mask's edges (docs/host_maths.md section 5): each edge
+  // of the band is placed to within a pixel, uniform in +-1/2 px, the same on
+  // every row when the band runs along a pixel axis (the robot following the
+  // tape); the centroid is their mean, sigma 1/sqrt(24) px across the band,
+  // c / (focal length along the normal) metres per pixel. The axis, from the
+  // two halves' centroids L/2 apart, each off by that much independently:
+  // sigma sqrt(2) / sqrt(24) / (L/2) rad.
+  const double across_px = 1.0 / std::sqrt(24.0);
+  const double m_per_px = cfg.ceiling_above_camera_m() / std::hypot(cam.fx() * nx, cam.fy() * ny);
+  const double yaw_sigma = 2.0 * std::sqrt(2.0) * across_px / std::max(1.0, ev.band_length_px);
+  const double offset_sigma = across_px * m_per_px;
+  out.covariance = Eigen::Vector2d(yaw_sigma * yaw_sigma, offset_sigma * offset_sigma).asDiagonal();
   const double cp = std::cos(out.pitch_rad);
   if (cp > 1e-6) {
     set_vanishing_point(Eigen::Vector2d(std::tan(out.yaw_rad) / cp, std::tan(out.pitch_rad)), cam,

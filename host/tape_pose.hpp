@@ -132,9 +132,9 @@ struct TapePose {
   double residual_rms_px = 0.0;
   double yaw_sigma_rad = 0.0;  // standard error of the yaw from the inliers' scatter
   // Covariance of (yaw_rad, offset_m) from the inliers' scatter about the
-  // line (centre-line method; zero where not computed): the statistical part
-  // only — the ceiling height's and the pitch's errors scale the offset and
-  // tilt the yaw on top of it (docs/host_maths.md).
+  // line (centre-line method), or from the mask's pixel quantisation (zenith
+  // moments, docs/host_maths.md section 5): the statistical part only — the ceiling height's and
+  // the pitch's errors scale the offset and tilt the yaw on top of it (docs/host_maths.md).
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
   Eigen::Vector3d line_norm{0.0, 0.0, 0.0};  // centre line l, l . (x, y, 1) = 0, l1^2 + l2^2 = 1
   TapeEvidence evidence;

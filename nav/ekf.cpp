@@ -31,8 +31,12 @@ template <int M>
 void kalman_update(State& x, Covariance& p, const Eigen::Matrix<double, M, state::size>& h,
                    const Eigen::Matrix<double, M, 1>& innovation,
                    const Eigen::Matrix<double, M, M>& s, const Eigen::Matrix<double, M, M>& r) {
-  const Eigen::Matrix<double, state::size, M> k =
-      s.ldlt().solve(h * p).transpose();  // P H^T S^-1 (S, P symmetric)
+  Eigen::Matrix<double, state::size, M> k;  // P H^T S^-1 (S, P symmetric)
+  if constexpr (M == 1) {
+    k = (h * p).transpose() / s(0, 0);
+  } else {
+    k = s.ldlt().solve(h * p).transpose();
+  }
   x += k * innovation;
   x(state::yaw) = wrap_angle(x(state::yaw));
   const Covariance a = Covariance::Identity() - k * h;
@@ -64,6 +68,15 @@ Covariance Ekf::calibration_prior(const OdometryModel& m) {
   p(state::left_scale, state::left_scale) = m.wheel_scale_sigma * m.wheel_scale_sigma;
   p(state::right_scale, state::right_scale) = m.wheel_scale_sigma * m.wheel_scale_sigma;
   p(state::yaw_scale, state::yaw_scale) = m.yaw_scale_sigma * m.yaw_scale_sigma;
+  return p;
+}
+
+Covariance Ekf::bias_prior(const MeasurementBiasModel& b) {
+  Covariance p = Covariance::Zero();
+  p(state::tape_yaw_bias, state::tape_yaw_bias) = b.tape_yaw_sigma_rad * b.tape_yaw_sigma_rad;
+  p(state::tape_offset_bias, state::tape_offset_bias) =
+      b.tape_offset_sigma_m * b.tape_offset_sigma_m;
+  p(state::landmark_bias, state::landmark_bias) = b.landmark_sigma_m * b.landmark_sigma_m;
   return p;
 }
 
@@ -104,11 +117,30 @@ void Ekf::propagate(State& x, Covariance& p, const OdometryStep& step) const {
   const Eigen::Vector3d q(m.wheel_var_per_m * std::abs(l), m.wheel_var_per_m * std::abs(r),
                           m.yaw_var_per_rad * std::abs(r - l) / b);
 
+  // The bias states decay over the distance the view moves, from the wheels'
+  // readings (so that F has no terms in the scale states): phi = exp(-D/len),
+  // with the driving noise sigma^2 (1 - phi^2) that keeps their variance
+  // stationary (and splits exactly when a step is split).
+  const MeasurementBiasModel& bm = opt_.bias;
+  const double view_moved = 0.5 * std::abs(l + r) + bm.turn_length_m_per_rad * std::abs(r - l) / b;
+  Eigen::Matrix<double, 3, 1> bias_var;
+  bias_var << bm.tape_yaw_sigma_rad * bm.tape_yaw_sigma_rad,
+      bm.tape_offset_sigma_m * bm.tape_offset_sigma_m, bm.landmark_sigma_m * bm.landmark_sigma_m;
+  const double lengths[3] = {bm.tape_length_m, bm.tape_length_m, bm.landmark_length_m};
+  Eigen::Matrix<double, 3, 1> bias_q;
+  for (int i = 0; i < 3; ++i) {
+    const double phi = std::exp(-view_moved / lengths[i]);
+    f(state::tape_yaw_bias + i, state::tape_yaw_bias + i) = phi;
+    bias_q(i) = bias_var(i) * (1.0 - phi * phi);
+  }
+
   const Pose2 next = advance({x(state::x), x(state::y), psi}, {ds, dpsi});
   x(state::x) = next.x_m;
   x(state::y) = next.y_m;
   x(state::yaw) = next.yaw_rad;
+  x.tail<3>() = f.bottomRightCorner<3, 3>().diagonal().cwiseProduct(x.tail<3>());
   p = f * p * f.transpose() + g * q.asDiagonal() * g.transpose();
+  p.bottomRightCorner<3, 3>() += bias_q.asDiagonal();
   p = 0.5 * (p + p.transpose());
 }
 
@@ -137,9 +169,10 @@ Pose2 Ekf::pose() const {
 }
 
 double Ekf::nees(const State& truth) const {
-  State e = state() - truth;
+  constexpr int n = state::tape_yaw_bias;  // the pose and the odometry's calibration
+  Eigen::Matrix<double, n, 1> e = (state() - truth).head<n>();
   e(state::yaw) = wrap_angle(e(state::yaw));
-  return e.dot(covariance().ldlt().solve(e));
+  return e.dot(covariance().topLeftCorner<n, n>().ldlt().solve(e));
 }
 
 double Ekf::pose_nees(const Pose2& truth) const {
@@ -153,11 +186,23 @@ Outcome Ekf::correct_tape(State& x, Covariance& p, const TapeMeasurement& m) con
   if (map_ == nullptr) return Outcome::unassociated;
   const Eigen::Matrix<double, 3, state::size> jc = camera_jacobian(x);
   const Eigen::Matrix3d pc = jc * p * jc.transpose();
-  const std::optional<Association> a = map_->associate(m, camera_pose(x), pc, opt_.association);
+  // z = h(camera) + b + noise: the segment is chosen for the measurement less
+  // the biases' estimate, their variance added to its own; the gate and the
+  // update then use the full Jacobian (the biases' covariance with the pose).
+  TapeMeasurement unbiased = m;
+  unbiased.yaw_rad = wrap_angle(m.yaw_rad - x(state::tape_yaw_bias));
+  unbiased.offset_m = m.offset_m - x(state::tape_offset_bias);
+  unbiased.covariance += p.block<2, 2>(state::tape_yaw_bias, state::tape_yaw_bias);
+  const std::optional<Association> a =
+      map_->associate(unbiased, camera_pose(x), pc, opt_.association);
   if (!a) return Outcome::unassociated;
-  if (a->mahalanobis2 > gate_tape_) return Outcome::rejected_gate;
-  const Eigen::Matrix<double, 2, state::size> h = a->prediction.jacobian * jc;
-  kalman_update<2>(x, p, h, a->innovation, a->innovation_covariance, m.covariance);
+  Eigen::Matrix<double, 2, state::size> h = a->prediction.jacobian * jc;
+  h(0, state::tape_yaw_bias) = 1.0;
+  h(1, state::tape_offset_bias) = 1.0;
+  const Eigen::Vector2d nu = tape_innovation(unbiased, a->prediction);
+  const Eigen::Matrix2d s = h * p * h.transpose() + m.covariance;
+  if (nu.dot(s.ldlt().solve(nu)) > gate_tape_) return Outcome::rejected_gate;
+  kalman_update<2>(x, p, h, nu, s, m.covariance);
   return Outcome::accepted;
 }
 
@@ -190,9 +235,10 @@ Outcome Ekf::correct_landmark(State& x, Covariance& p, const LandmarkMeasurement
     if (rel.norm() > opt_.association.view_radius_m + 1.0) continue;
     const double predicted = rel.dot(*u);
     const Eigen::Matrix<double, 1, 3> hc(-u->x(), -u->y(), 0.0);
-    const Eigen::Matrix<double, 1, state::size> h = hc * jc;
+    Eigen::Matrix<double, 1, state::size> h = hc * jc;
+    h(0, state::landmark_bias) = 1.0;  // z = (L - c) . u + b + noise
     const double s = (h * p * h.transpose())(0, 0) + m.variance_m2;
-    const double nu = m.along_m - predicted;
+    const double nu = m.along_m - predicted - x(state::landmark_bias);
     if (nu * nu / s < best) {
       best = nu * nu / s;
       h_best = h;

@@ -18,13 +18,16 @@
 
 namespace ceilnav::nav {
 
-// State: robot pose (x, y, yaw of the wheel-axis midpoint, world frame) and
-// the odometry's calibration errors: each wheel's travel scale error e_l, e_r
+// State: robot pose (x, y, yaw of the wheel-axis midpoint, world frame), the
+// odometry's calibration errors: each wheel's travel scale error e_l, e_r
 // (true travel = (1 + e) * measured) and the heading scale error e_w (true
-// heading change = (1 + e_w) * (r - l) / b: the effective wheel base's error).
+// heading change = (1 + e_w) * (r - l) / b: the effective wheel base's error),
+// and the vision's systematic errors (MeasurementBiasModel): the tape
+// measurement's yaw and offset biases and the landmark distances' bias.
 namespace state {
 inline constexpr int x = 0, y = 1, yaw = 2, left_scale = 3, right_scale = 4, yaw_scale = 5;
-inline constexpr int size = 6;
+inline constexpr int tape_yaw_bias = 6, tape_offset_bias = 7, landmark_bias = 8;
+inline constexpr int size = 9;
 }  // namespace state
 using State = Eigen::Matrix<double, state::size, 1>;
 using Covariance = Eigen::Matrix<double, state::size, state::size>;
@@ -48,6 +51,23 @@ struct OdometryModel {
   double yaw_scale_sigma = 1e-2;      // effective wheel base known to 1 %
 };
 
+// Systematic errors of the vision measurements: what a frame's error shares
+// with its neighbours' (the lens model's and the renderer's residual where
+// the tape sits in the image, a detector's bias at a tape end, the map's
+// survey). Each is a first-order Gauss-Markov state, measured z = h(x) + b +
+// white noise, whose correlation decays with the distance the camera's view
+// moves: exp(-D / length) for D = |travel| + turn_length_m_per_rad |turn|
+// (docs/navigation.md, "Systematic errors"). With the sigmas 0 (the default)
+// the states stay 0 with zero variance and the filter is the one without them.
+struct MeasurementBiasModel {
+  double tape_yaw_sigma_rad = 0.0;
+  double tape_offset_sigma_m = 0.0;
+  double landmark_sigma_m = 0.0;
+  double tape_length_m = 2.0;      // the tape's place in the image changes slowly while following
+  double landmark_length_m = 1.0;  // about the stretch over which one landmark stays in view
+  double turn_length_m_per_rad = 1.0;
+};
+
 // Camera on the robot: its position (forward, left of the wheel-axis
 // midpoint) and its yaw relative to the robot's heading.
 struct CameraMount {
@@ -61,6 +81,7 @@ enum class Timing {
 
 struct EkfOptions {
   OdometryModel odometry;
+  MeasurementBiasModel bias;
   CameraMount mount;
   AssociationOptions association;
   // Innovation gate: a measurement whose squared Mahalanobis innovation
@@ -102,6 +123,9 @@ class Ekf {
   // The initial covariance of the calibration states from the odometry model
   // (pose block left zero).
   static Covariance calibration_prior(const OdometryModel& m);
+  // The bias states' stationary variances (MeasurementBiasModel); add it to
+  // the initial covariance.
+  static Covariance bias_prior(const MeasurementBiasModel& b);
 
   // Predict with the wheel travel since the previous tick (step.t_s > time()).
   void predict(const OdometryStep& step);
@@ -130,7 +154,8 @@ class Ekf {
   void propagate(State& x, Covariance& p, const OdometryStep& step) const;
 
   // Normalised estimation error squared against a true state (yaw wrapped):
-  // all states, and the pose block alone.
+  // the pose and calibration states (the biases have no truth to compare
+  // with), and the pose block alone.
   double nees(const State& truth) const;
   double pose_nees(const Pose2& truth) const;
 

@@ -118,8 +118,7 @@ CalibrationDriveResult calibration_drive(const CalibrationDriveConfig& config) {
     const cv::Mat frame =
         render_drive_frame(camera, config.course, config.mount, pose_at, t0, config.exposure_s, rp);
     const host::FrameOutcome out = navigator.process(frame);
-    const host::TapePose& pose =
-        out.zenith && out.zenith->status == host::Status::ok ? *out.zenith : out.pose;
+    const host::TapePose& pose = host::navigation_pose(out);
     CalibrationFrame f;
     f.run = phase == Phase::run ? run : -1;
     f.t_s = tm;

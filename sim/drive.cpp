@@ -146,7 +146,7 @@ Drive::Drive(const DriveConfig& config)
   x0(nav::state::x) = config_.course.start.x_m;
   x0(nav::state::y) = config_.course.start.y_m;
   x0(nav::state::yaw) = config_.course.start.yaw_rad;
-  nav::Covariance p0 = nav::Ekf::calibration_prior(eo.odometry);
+  nav::Covariance p0 = nav::Ekf::calibration_prior(eo.odometry) + nav::Ekf::bias_prior(eo.bias);
   p0(nav::state::x, nav::state::x) = p0(nav::state::y, nav::state::y) =
       config_.start_sigma_m * config_.start_sigma_m;
   p0(nav::state::yaw, nav::state::yaw) = config_.start_sigma_yaw_rad * config_.start_sigma_yaw_rad;
@@ -399,8 +399,7 @@ void Drive::expose_frame(int index, double t0) {
   const host::FrameOutcome out = navigator_->process(frame);
   if (const std::optional<StationView> sv = station_in_view())
     analyse_station(index, *sv, t0, frame_latency_s(out));
-  const host::TapePose& pose =
-      out.zenith && out.zenith->status == host::Status::ok ? *out.zenith : out.pose;
+  const host::TapePose& pose = host::navigation_pose(out);
   ++frames_;
   frames_ok_ += pose.status == host::Status::ok;
   exposed_frame_ = index;

@@ -48,7 +48,7 @@ double rms(const std::vector<sim::RunResult>& runs, int component) {
 // two-sided 95 % band of chi-square(runs * dof) / runs.
 double fraction_in_band(const std::vector<sim::RunResult>& runs, bool pose_only) {
   const double n = static_cast<double>(runs.size());
-  const double dof = pose_only ? 3.0 : static_cast<double>(state::size);
+  const double dof = pose_only ? 3.0 : static_cast<double>(state::tape_yaw_bias);
   const double lo = chi_square_quantile(0.025, n * dof) / n;
   const double hi = chi_square_quantile(0.975, n * dof) / n;
   std::size_t ticks = runs.front().nees.size(), inside = 0;
@@ -63,7 +63,7 @@ double fraction_in_band(const std::vector<sim::RunResult>& runs, bool pose_only)
 
 // Fraction of single-run NEES values within the 95 % band of chi-square(dof).
 double single_fraction_in_band(const std::vector<sim::RunResult>& runs, bool pose_only) {
-  const double dof = pose_only ? 3.0 : static_cast<double>(state::size);
+  const double dof = pose_only ? 3.0 : static_cast<double>(state::tape_yaw_bias);
   const double lo = chi_square_quantile(0.025, dof), hi = chi_square_quantile(0.975, dof);
   std::size_t all = 0, inside = 0;
   for (const auto& r : runs)
@@ -77,7 +77,7 @@ double single_fraction_in_band(const std::vector<sim::RunResult>& runs, bool pos
 TEST(Ekf, PropagationJacobiansMatchFiniteDifferences) {
   EkfOptions opt;
   State x;
-  x << 1.0, -0.5, 0.7, 0.01, -0.02, 0.03;
+  x << 1.0, -0.5, 0.7, 0.01, -0.02, 0.03, 2e-4, -3e-4, 1e-3;
   const OdometryStep step{0.01, 0.048, 0.061};
   // Mean of one step as a function of the state and of the wheel readings.
   auto mean = [&](const State& s, const OdometryStep& st) {
@@ -110,7 +110,7 @@ TEST(Ekf, PropagationJacobiansMatchFiniteDifferences) {
   // d(pose)/d(e_w) / ((r - l)/b).
   opt.odometry = OdometryModel{};
   State x0 = x;
-  x0.tail<3>().setZero();
+  x0.tail<6>().setZero();
   auto column = [&](int which) {
     State a, b;
     if (which < 2) {
@@ -126,7 +126,7 @@ TEST(Ekf, PropagationJacobiansMatchFiniteDifferences) {
     xb(state::yaw_scale) -= h;
     const double w = (step.right_m - step.left_m) / opt.odometry.wheel_base_m;
     State c = (mean(xa, step) - mean(xb, step)) / (2 * h) / w;
-    c.tail<3>().setZero();  // the noise does not enter the calibration states
+    c.tail<6>().setZero();  // the noise enters neither the calibration nor the bias states
     return c;
   };
   Eigen::Matrix<double, state::size, 3> g;
@@ -342,6 +342,80 @@ TEST(Ekf, NeesIsWithinTheChiSquareBand) {
   // 3 of those.
   EXPECT_NEAR(mean_pose, 3.0, 3 * std::sqrt(2 * 3.0 / 50));
   EXPECT_NEAR(mean_full, 6.0, 3 * std::sqrt(2 * 6.0 / 50));
+}
+
+// The bias states: stationary under their own process (a Gauss-Markov state
+// whose prior is its stationary variance keeps it), decaying over the view's
+// motion, and split steps compose exactly.
+TEST(Ekf, BiasStatesAreStationaryGaussMarkov) {
+  EkfOptions opt;
+  opt.bias.tape_yaw_sigma_rad = 1e-4;
+  opt.bias.tape_offset_sigma_m = 2e-4;
+  opt.bias.landmark_sigma_m = 2e-3;
+  const Ekf e(opt, nullptr, 0.0, State::Zero(), Covariance::Identity());
+  State x = State::Zero();
+  x(state::tape_offset_bias) = 1e-4;
+  x(state::landmark_bias) = 1e-3;
+  Covariance p = Ekf::bias_prior(opt.bias);
+  const OdometryStep step{0.01, 0.05, 0.04};  // wheels 5 and 4 cm: 4.5 cm, 25 mrad
+  e.propagate(x, p, step);
+  for (int i = state::tape_yaw_bias; i < state::size; ++i)
+    EXPECT_NEAR(p(i, i), Ekf::bias_prior(opt.bias)(i, i), 1e-20) << i;
+  const double moved = 0.045 + opt.bias.turn_length_m_per_rad * 0.01 / opt.odometry.wheel_base_m;
+  EXPECT_NEAR(x(state::tape_offset_bias), 1e-4 * std::exp(-moved / opt.bias.tape_length_m), 1e-15);
+  EXPECT_NEAR(x(state::landmark_bias), 1e-3 * std::exp(-moved / opt.bias.landmark_length_m), 1e-15);
+  // Sigmas 0 (the default): the states stay 0 with no variance.
+  const Ekf off(EkfOptions{}, nullptr, 0.0, State::Zero(), Covariance::Identity());
+  State y = State::Zero();
+  Covariance q = Ekf::calibration_prior(OdometryModel{});
+  off.propagate(y, q, step);
+  EXPECT_EQ(q.bottomRows<3>().cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(y.tail<3>().cwiseAbs().maxCoeff(), 0.0);
+}
+
+// A tape offset error shared by every frame of a run (a lens model's residual
+// where the tape sits in the image) makes a filter that takes the frames as
+// independent sure of a lateral position that is wrong; with the bias state
+// of that sigma the same measurements give a consistent filter.
+TEST(Ekf, ASharedTapeErrorIsConsistentOnlyAsABiasState) {
+  sim::SimConfig cfg = loop_config();
+  cfg.stations.clear();
+  cfg.offset_sigma_m = 2e-3;
+  const double bias_sigma = 3e-3;
+  const TapeMap map = sim::map_of(cfg.course);
+  std::mt19937_64 rng(77);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<sim::RunResult> unaware, aware;
+  EkfOptions with = options_for(cfg);
+  with.bias.tape_offset_sigma_m = bias_sigma;
+  with.bias.tape_length_m = 1e9;  // constant over the run
+  with.bias.turn_length_m_per_rad = 0.0;
+  for (int i = 0; i < 40; ++i) {
+    sim::SimRun run = sim::simulate(cfg, rng);
+    const double b = bias_sigma * gauss(rng);
+    for (TapeMeasurement& m : run.tapes) m.offset_m += b;
+    unaware.push_back(sim::run_filter(run, options_for(cfg), map));
+    run.p0 += Ekf::bias_prior(with.bias);
+    aware.push_back(sim::run_filter(run, with, map));
+  }
+  auto mean_nees = [](const std::vector<sim::RunResult>& runs) {
+    double sum = 0;
+    std::size_t n = 0;
+    for (const auto& r : runs)
+      for (double v : r.pose_nees) {
+        sum += v;
+        ++n;
+      }
+    return sum / static_cast<double>(n);
+  };
+  std::printf(
+      "pose NEES mean / fraction in band (40 runs): unaware %.2f / %.3f, bias state %.2f / %.3f\n",
+      mean_nees(unaware), fraction_in_band(unaware, true), mean_nees(aware),
+      fraction_in_band(aware, true));
+  EXPECT_GT(mean_nees(unaware), 3.0 + 3 * std::sqrt(2 * 3.0 / 40));
+  EXPECT_LT(fraction_in_band(unaware, true), 0.5);
+  EXPECT_NEAR(mean_nees(aware), 3.0, 3 * std::sqrt(2 * 3.0 / 40));
+  EXPECT_GE(fraction_in_band(aware, true), 0.9);
 }
 
 // (d) Injected outliers (a 0.25 m offset jump, a 0.1 rad yaw jump) are rejected
