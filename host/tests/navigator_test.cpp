@@ -182,5 +182,21 @@ TEST(NavigatorRendered, NoTapeBlackAndSaturatedFramesGiveAStatusAndTheNextFrameI
   EXPECT_THROW(nav.process(cv::Mat(10, 10, CV_8UC1)), std::invalid_argument);
 }
 
+TEST(NavigationPose, CentreLineFirstThenTheZenithMoments) {
+  FrameOutcome out;
+  out.pose.status = Status::ok;
+  out.pose.method = "runs_centre_line";
+  out.zenith = TapePose{};
+  out.zenith->status = Status::ok;
+  out.zenith->method = "zenith_moments";
+  EXPECT_EQ(&navigation_pose(out), &out.pose);
+  out.pose.status = Status::too_few_points;
+  EXPECT_EQ(&navigation_pose(out), &*out.zenith);
+  out.zenith->status = Status::inconsistent;
+  EXPECT_EQ(&navigation_pose(out), &out.pose);
+  out.zenith.reset();
+  EXPECT_EQ(&navigation_pose(out), &out.pose);
+}
+
 }  // namespace
 }  // namespace ceilnav::host

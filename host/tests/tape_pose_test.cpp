@@ -426,6 +426,14 @@ TEST(TapePose, ZenithFromMoments) {
       const double bound = std::pow(w_px / c.image_height, 2) + 2e-4;
       EXPECT_NEAR(p.yaw_rad, yaw_deg * kDeg, bound) << yaw_deg << " " << off;
       EXPECT_NEAR(p.offset_m, off, 2e-3) << yaw_deg << " " << off;
+      // The pixel-quantisation covariance (host_maths.md section 5) covers
+      // the errors; along the image's columns the normal's focal length is fx.
+      const double sigma_off = std::sqrt(p.covariance(1, 1));
+      EXPECT_LE(std::abs(p.offset_m - off), 3.0 * sigma_off) << yaw_deg << " " << off;
+      EXPECT_LE(std::abs(p.yaw_rad - yaw_deg * kDeg), 3.0 * std::sqrt(p.covariance(0, 0)) + bound);
+      if (yaw_deg == 0.0) {
+        EXPECT_NEAR(sigma_off, c.ceiling_above_camera_m() / c.fx() / std::sqrt(24.0), 1e-12);
+      }
     }
   }
   stream::MomentResults empty;
