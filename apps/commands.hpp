@@ -128,6 +128,9 @@ struct DriveOptions {
   double pitch_deg = 60.0;
   int width = 320, height = 240;  // the camera: the demo camera scaled (scaled_camera)
   double max_time_s = 0.0;        // 0: from the route's length
+  // The map's ceiling heights are the course's times this (a wrong survey:
+  // the flow's estimate of the height shows it, docs/navigation.md).
+  double map_height_scale = 1.0;
   bool plot = true;
   bool quiet = false;
   bool require = false;  // exit 1 unless the goals are met

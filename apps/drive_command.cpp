@@ -44,6 +44,7 @@ sim::DriveConfig drive_config(const DriveOptions& o, const sim::Course& course, 
   c.backend = o.backend;
   c.vision = o.vision;
   c.max_time_s = o.max_time_s;
+  c.ceiling.map_scale = o.map_height_scale;
   c.follower.steering.law = steering_law(o.steering);
   c.render.render = golden::default_render_params();
   c.render.render.noise_seed = seed;
@@ -122,6 +123,16 @@ nlohmann::json summary_json(const sim::DriveSummary& s, bool vision) {
   j["pattern_rejected_gate"] = s.counters.pattern.rejected_gate;
   j["pattern_too_old"] = s.counters.pattern.too_old;
   j["pattern_not_ok"] = s.counters.pattern.not_ok;
+  // The ceiling height above the camera where it looks: the flow's and the
+  // tape width's estimate against the truth (relative, over the ticks), the
+  // map's own error, and the measurements the height filter took.
+  j["ceiling_error_rms_percent"] = 100.0 * s.ceiling_error_rms;
+  j["ceiling_error_max_percent"] = 100.0 * s.ceiling_error_max;
+  j["ceiling_map_error_percent"] = 100.0 * s.ceiling_map_error_rms;
+  j["ceiling_flow_accepted"] = s.ceiling_counters.flow_accepted;
+  j["ceiling_flow_rejected_gate"] = s.ceiling_counters.flow_rejected;
+  j["ceiling_width_accepted"] = s.ceiling_counters.width_accepted;
+  j["ceiling_width_rejected_gate"] = s.ceiling_counters.width_rejected;
   // Per station: the robot's position error before its first accepted fix
   // and after its last (null: no fix accepted), and the goal.
   nlohmann::json stations = nlohmann::json::array();

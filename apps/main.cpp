@@ -322,6 +322,9 @@ CLI::App* add_drive_command(CLI::App& app, DriveOptions& drive) {
       ->capture_default_str();
   cmd->add_option("--max-time", drive.max_time_s, "Stop after this many simulated seconds")
       ->check(CLI::Range(0.0, 1e6));
+  cmd->add_option("--map-height-scale", drive.map_height_scale,
+                  "The map's ceiling heights are the course's times this (a wrong survey)")
+      ->check(CLI::Range(0.5, 2.0));
   cmd->add_flag("!--no-vision", drive.vision, "Dead reckoning only: no frames reach the filter");
   cmd->add_flag("!--no-plot", drive.plot, "No drive.png");
   cmd->add_flag("--quiet", drive.quiet, "No progress bar");

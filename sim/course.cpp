@@ -302,11 +302,16 @@ const char* turn_name(Turn turn) {
 }
 
 double Course::ceiling_height_at(double x, double y) const {
-  double h = ceiling_height_m;
-  for (const HeightZone& z : zones) {
-    if (z.contains(x, y)) h = z.height_m;
+  const int z = zone_at(x, y);
+  return z < 0 ? ceiling_height_m : zones[static_cast<std::size_t>(z)].height_m;
+}
+
+int Course::zone_at(double x, double y) const {
+  int found = -1;
+  for (std::size_t i = 0; i < zones.size(); ++i) {
+    if (zones[i].contains(x, y)) found = static_cast<int>(i);
   }
-  return h;
+  return found;
 }
 
 bool Course::operator==(const Course& o) const {

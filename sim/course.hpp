@@ -68,6 +68,9 @@ struct Course {
   std::vector<Turn> route;
 
   double ceiling_height_at(double x_m, double y_m) const;
+  // The zone whose height holds at (x, y): its index in `zones`, -1 for the
+  // default ceiling.
+  int zone_at(double x_m, double y_m) const;
   double tape_length_m() const;                // centre-line length of every tape, gaps included
   bool operator==(const Course& other) const;  // every field exactly
 };

@@ -15,6 +15,7 @@
 #include <opencv2/core.hpp>
 
 #include "golden/pattern/pattern.hpp"
+#include "host/flow_height.hpp"
 #include "host/junction.hpp"
 #include "host/pattern/world_fix.hpp"
 #include "nav/chi_square.hpp"
@@ -108,6 +109,15 @@ Drive::Drive(const DriveConfig& config)
       follower_(plan_.waypoints, config.follower) {
   config_.camera.ceiling_height_m = config_.course.ceiling_height_m;
   config_.camera.camera_height_m = config_.camera_height_m;
+  if (!(config_.ceiling.map_scale > 0.0))
+    throw std::invalid_argument("drive: ceiling.map_scale must be > 0");
+  map_course_ = config_.course;
+  map_course_.ceiling_height_m *= config_.ceiling.map_scale;
+  for (HeightZone& z : map_course_.zones) z.height_m *= config_.ceiling.map_scale;
+  heights_ = nav::CeilingHeightFilter(config_.ceiling.filter);
+  flow_ =
+      std::make_unique<host::FlowTrack>(config_.camera.camera_pitch_deg * std::numbers::pi / 180.0,
+                                        config_.camera.ceiling_above_camera_m());
   if (!(config_.odometry_rate_hz > 0.0) || !(config_.frame_rate_hz > 0.0) ||
       !(config_.exposure_s >= 0.0) || config_.exposure_s >= 1.0 / config_.frame_rate_hz) {
     throw std::invalid_argument(
@@ -164,6 +174,8 @@ Drive::Drive(const DriveConfig& config)
     sensor_model_ = std::make_unique<host::CameraModel>(sensor_camera());
   }
   track_.add(0.0, robot_.pose());
+  odometry_pose_ = config_.course.start;
+  odometry_track_.add(0.0, odometry_pose_);
   t_end_ = config_.max_time_s > 0.0
                ? config_.max_time_s
                : 3.0 * plan_.length_m / std::max(0.05, config_.follower.cruise_speed_mps) + 60.0;
@@ -408,23 +420,24 @@ void Drive::expose_frame(int index, double t0) {
   time.exposure_s = t0 + 0.5 * config_.exposure_s;
   time.available_s = t0 + config_.exposure_s + frame_latency_s(out);
   nav::TapeMeasurement m = host::tape_measurement(pose, time, config_.tape_noise);
-  double height_factor = 1.0;
+  // The host measured at the configured ceiling height; the map's height
+  // where the camera looks scales the offset (it is proportional to the
+  // ceiling above the camera), and the landmarks are measured at that
+  // height. (The flow's estimate of the height is reported beside it, not
+  // used: its error is shared by every measurement of a zone and needs a
+  // state of the pose filter, docs/navigation.md "Ceiling height".)
+  const CeilingView ceiling = ceiling_view(ekf_->camera_pose(ekf_->state()));
+  const double above_cfg = config_.camera.ceiling_above_camera_m();
+  const double height_factor = ceiling.map_m / above_cfg;
   if (m.status == nav::MeasurementStatus::ok) {
-    // The host measured the offset at the configured ceiling height; the
-    // course's height where the camera looks scales it (offset is
-    // proportional to the ceiling above the camera).
-    const nav::Pose2 cam = ekf_->camera_pose(ekf_->state());
-    const double above_cfg = config_.camera.ceiling_height_m - config_.camera.camera_height_m;
-    const double p = config_.camera.camera_pitch_deg * std::numbers::pi / 180.0;
-    const double reach = std::abs(std::cos(p)) < 1e-9 ? 0.0 : above_cfg / std::tan(p);
-    const double h = config_.course.ceiling_height_at(cam.x_m + reach * std::cos(cam.yaw_rad),
-                                                      cam.y_m + reach * std::sin(cam.yaw_rad));
-    const double f = (h - config_.camera.camera_height_m) / above_cfg;
-    height_factor = f;
-    m.offset_m *= f;
-    m.covariance(1, 1) *= f * f;
-    m.covariance(0, 1) *= f;
-    m.covariance(1, 0) *= f;
+    m.offset_m *= height_factor;
+    m.covariance(1, 1) *= height_factor * height_factor;
+    m.covariance(0, 1) *= height_factor;
+    m.covariance(1, 0) *= height_factor;
+  }
+  if (config_.ceiling.fuse && m.status == nav::MeasurementStatus::ok &&
+      pose.method == std::string_view("runs_centre_line")) {
+    measure_ceiling(frame, out, pose, time.exposure_s);
   }
   Pending tape;
   tape.m = m;
@@ -433,10 +446,16 @@ void Drive::expose_frame(int index, double t0) {
   if (!config_.landmarks || m.status != nav::MeasurementStatus::ok ||
       pose.method != std::string_view("runs_centre_line"))
     return;
-  // The junctions and tape ends of the followed tape in view: distances along
-  // it, scaled like the offset by the ceiling's height.
-  for (const host::Junction& j :
-       host::detect_junctions(out, navigator_->camera_model(), config_.camera)) {
+  // The junctions and tape ends of the followed tape in view, measured with
+  // the ceiling at the map's height (the tape-end detector compares the
+  // tape's measured width with its configured one, so scaling its distance
+  // afterwards is not the same: docs/navigation.md, "Ceiling height").
+  host::CameraConfig at_height = config_.camera;
+  at_height.ceiling_height_m = config_.camera.camera_height_m + ceiling.map_m;
+  host::TapePose scaled = out.pose;
+  scaled.offset_m *= height_factor;
+  for (const host::Junction& j : host::detect_junctions(
+           out.runs, out.settings, navigator_->camera_model(), at_height, scaled)) {
     if (j.kind == host::JunctionKind::none) continue;
     Pending l;
     l.kind = Pending::Kind::landmark;
@@ -445,13 +464,104 @@ void Drive::expose_frame(int index, double t0) {
     l.landmark.kind = j.kind == host::JunctionKind::tape_end
                           ? nav::LandmarkMeasurement::Kind::tape_end
                           : nav::LandmarkMeasurement::Kind::junction;
-    l.landmark.along_m = j.distance_m * height_factor;
+    l.landmark.along_m = j.distance_m;
     const double smear = odometry_speed_mps_ * config_.exposure_s;
-    const double scaled = j.distance_sigma_m * height_factor;
     l.landmark.variance_m2 =
-        scaled * scaled + smear * smear / 12.0 +
+        j.distance_sigma_m * j.distance_sigma_m + smear * smear / 12.0 +
         config_.landmark_noise.floor_sigma_m * config_.landmark_noise.floor_sigma_m;
     pending_.push_back(l);
+  }
+}
+
+Drive::CeilingView Drive::ceiling_view(const nav::Pose2& cam) {
+  // The look point: where the optical axis meets the ceiling at the
+  // configured height (the zone is what matters; its border is not known
+  // better than that).
+  const double above_cfg = config_.camera.ceiling_above_camera_m();
+  const double p = config_.camera.camera_pitch_deg * std::numbers::pi / 180.0;
+  const double reach = std::abs(std::cos(p)) < 1e-9 ? 0.0 : above_cfg / std::tan(p);
+  const double x = cam.x_m + reach * std::cos(cam.yaw_rad),
+               y = cam.y_m + reach * std::sin(cam.yaw_rad);
+  CeilingView v;
+  v.zone = map_course_.zone_at(x, y);
+  v.map_m = map_course_.ceiling_height_at(x, y) - config_.camera.camera_height_m;
+  v.truth_m = config_.course.ceiling_height_at(x, y) - config_.camera.camera_height_m;
+  v.estimate_m = v.map_m;
+  if (config_.ceiling.fuse) {
+    const nav::CeilingHeightFilter::Estimate e = heights_.estimate(v.zone, v.map_m);
+    v.estimate_m = e.height_m;
+    v.sigma_m = e.sigma_m;
+  } else {
+    v.sigma_m = config_.ceiling.filter.map_sigma_fraction * v.map_m;
+  }
+  return v;
+}
+
+void Drive::feed_flow_fit() {
+  // A finished track's fit is one measurement (the fits of a growing track
+  // share its frames: only the last counts). Its feature lies range_m ahead
+  // of the camera's last position.
+  if (flow_fit_ && flow_fit_->status == host::Status::ok &&
+      flow_fit_->std_error_m <= 0.02 * flow_fit_->ceiling_above_camera_m) {
+    const int zone = map_course_.zone_at(flow_feature_x_m_, flow_feature_y_m_);
+    const double map_m = map_course_.ceiling_height_at(flow_feature_x_m_, flow_feature_y_m_) -
+                         config_.camera.camera_height_m;
+    heights_.update(zone, map_m, nav::CeilingHeightFilter::Source::flow,
+                    flow_fit_->ceiling_above_camera_m, flow_fit_->std_error_m);
+  }
+  flow_fit_.reset();
+  flow_idle_frames_ = 0;
+}
+
+void Drive::close_flow_track() {
+  feed_flow_fit();
+  flow_->reset();
+}
+
+void Drive::measure_ceiling(const cv::Mat& frame, const host::FrameOutcome& out,
+                            const host::TapePose& pose, double exposure_s) {
+  const host::CameraModel& cam = navigator_->camera_model();
+  // The tape's image width: no odometry; a frame's white error is its rows'
+  // scatter, at least 0.1 % (the per-frame RMS on renders, docs/host_maths.md
+  // section 6a).
+  // Not while turning: the rotation smears the tape across the rows by
+  // omega x exposure x fx pixels, which the width's plateau does not allow
+  // for (measured in pivots: 1-3 % low); a quarter pixel is the limit.
+  const bool still =
+      odometry_yaw_rate_radps_ * config_.exposure_s * config_.camera.camera_matrix[0] < 0.25;
+  const host::WidthHeight w =
+      still ? host::ceiling_height_from_tape_width(frame, out.runs, cam, config_.camera, pose)
+            : host::WidthHeight{};
+  if (w.status == host::Status::ok) {
+    const CeilingView v = ceiling_view(ekf_->camera_pose(ekf_->state()));
+    heights_.update(v.zone, v.map_m, nav::CeilingHeightFilter::Source::width,
+                    w.ceiling_above_camera_m,
+                    std::max(w.std_error_m, 1e-3 * w.ceiling_above_camera_m));
+  }
+  // A tape end's flow against the odometry's own dead reckoning (not the
+  // filter's, which the landmarks measured at this height correct).
+  const std::optional<Eigen::Vector2d> end =
+      host::find_tape_end(frame, out.runs, cam, config_.camera, pose);
+  if (!end) {
+    if (flow_fit_ && ++flow_idle_frames_ > 5) close_flow_track();
+    return;
+  }
+  const nav::Pose2 o = odometry_track_.at(exposure_s);
+  const nav::CameraMount& mnt = config_.believed_mount;
+  const double c = std::cos(o.yaw_rad), s = std::sin(o.yaw_rad);
+  const nav::Pose2 camera{o.x_m + c * mnt.forward_m - s * mnt.left_m,
+                          o.y_m + s * mnt.forward_m + c * mnt.left_m, o.yaw_rad + mnt.yaw_rad};
+  // A new track begins with this observation when it does not continue the
+  // current one: the previous track is over.
+  if (!flow_->add(camera, *end)) feed_flow_fit();
+  flow_idle_frames_ = 0;
+  const host::FlowFit f = flow_->fit();
+  if (f.status == host::Status::ok) {
+    flow_fit_ = f;
+    // The feature in the world, from the filter's camera (for its zone).
+    const nav::Pose2 fc = ekf_->camera_pose(ekf_->state());
+    flow_feature_x_m_ = fc.x_m + f.range_m * std::cos(fc.yaw_rad);
+    flow_feature_y_m_ = fc.y_m + f.range_m * std::sin(fc.yaw_rad);
   }
 }
 
@@ -471,9 +581,13 @@ bool Drive::step() {
   track_.add(t_, robot_.pose());
   driven_m_ += std::hypot(robot_.pose().x_m - before.x_m, robot_.pose().y_m - before.y_m);
   ekf_->predict(odo);
+  odometry_pose_ = nav::advance(odometry_pose_, nav::motion_of(odo, config_.robot.wheel_base_m));
+  odometry_track_.add(t_, odometry_pose_);
   const double travel = std::abs(nav::motion_of(odo, config_.robot.wheel_base_m).distance_m);
   blind_m_ += travel;
   odometry_speed_mps_ = travel / dt_;
+  odometry_yaw_rate_radps_ =
+      std::abs(nav::motion_of(odo, config_.robot.wheel_base_m).dyaw_rad) / dt_;
   exposed_frame_ = -1;
   exposed_status_.clear();
   if (config_.vision) {
@@ -528,6 +642,11 @@ bool Drive::step() {
   row.yaw_scale_error = ekf_->state()(nav::state::yaw_scale);
   row.distance_m = driven_m_;
   row.blind_m = blind_m_;
+  const CeilingView cv = ceiling_view(ekf_->camera_pose(ekf_->state()));
+  row.ceiling_est_m = cv.estimate_m;
+  row.ceiling_sigma_m = cv.sigma_m;
+  row.ceiling_map_m = cv.map_m;
+  row.ceiling_true_m = cv.truth_m;
   if (exposed_frame_ >= 0 && row.frame < 0) row.frame_status = exposed_status_;
   if (exposed_frame_ >= 0) row.frame_status = exposed_status_;
   rows_.push_back(std::move(row));
@@ -599,6 +718,20 @@ DriveSummary Drive::summary() const {
     }
   }
   s.counters = ekf_->counters();
+  // The ceiling height where the camera looks: relative errors of the
+  // estimate and of the map over the ticks.
+  double ss_c = 0.0, ss_map = 0.0;
+  for (const DriveRow& r : rows_) {
+    const double e = r.ceiling_est_m / r.ceiling_true_m - 1.0;
+    ss_c += e * e;
+    ss_map += std::pow(r.ceiling_map_m / r.ceiling_true_m - 1.0, 2);
+    s.ceiling_error_max = std::max(s.ceiling_error_max, std::abs(e));
+  }
+  if (!rows_.empty()) {
+    s.ceiling_error_rms = std::sqrt(ss_c / static_cast<double>(rows_.size()));
+    s.ceiling_map_error_rms = std::sqrt(ss_map / static_cast<double>(rows_.size()));
+  }
+  s.ceiling_counters = heights_.counters();
   for (std::size_t k = 0; k < stations_.size(); ++k) {
     DriveSummary::Station st;
     st.id = stations_[k].id;
@@ -641,17 +774,19 @@ void write_trajectory_csv(const std::string& path, const std::vector<DriveRow>& 
     f << "t_s,x_m,y_m,yaw_rad,est_x_m,est_y_m,est_yaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,"
          "v_cmd_mps,omega_cmd_radps,mode,leg,lateral_error_m,heading_error_rad,pose_nees,"
          "distance_m,blind_m,frame_status,applied_frame,outcome,left_scale_error,right_scale_error,"
-         "yaw_scale_error\n";
+         "yaw_scale_error,ceiling_est_m,ceiling_sigma_m,ceiling_map_m,ceiling_true_m\n";
     for (const DriveRow& r : rows) {
       f << fmt::format(
           "{:.4f},{:.6f},{:.6f},{:.7f},{:.6f},{:.6f},{:.7f},{:.3e},{:.3e},{:.3e},"
-          "{:.4f},{:.5f},{},{},{:.3e},{:.3e},{:.4g},{:.4f},{:.4f},{},{},{},{:.5f},{:.5f},{:.5f}\n",
+          "{:.4f},{:.5f},{},{},{:.3e},{:.3e},{:.4g},{:.4f},{:.4f},{},{},{},{:.5f},{:.5f},{:.5f},"
+          "{:.5f},{:.3e},{:.5f},{:.5f}\n",
           r.t_s, r.truth.x_m, r.truth.y_m, r.truth.yaw_rad, r.estimate.x_m, r.estimate.y_m,
           r.estimate.yaw_rad, r.sigma_x_m, r.sigma_y_m, r.sigma_yaw_rad, r.v_cmd_mps,
           r.omega_cmd_radps, nav::to_string(r.mode), r.leg, r.lateral_error_m, r.heading_error_rad,
           r.pose_nees, r.distance_m, r.blind_m, r.frame_status,
           r.frame >= 0 ? std::to_string(r.frame) : "", r.outcome, r.left_scale_error,
-          r.right_scale_error, r.yaw_scale_error);
+          r.right_scale_error, r.yaw_scale_error, r.ceiling_est_m, r.ceiling_sigma_m,
+          r.ceiling_map_m, r.ceiling_true_m);
     }
     if (!f.flush()) throw std::runtime_error("cannot write " + tmp);
   }

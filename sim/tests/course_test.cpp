@@ -79,6 +79,9 @@ TEST(DefaultCourse, HasTheBriefsFeatures) {
   EXPECT_EQ(c.ceiling_height_at(10.0, 0.0), 2.5);
   EXPECT_EQ(c.ceiling_height_at(30.0, 0.0), 2.8);
   EXPECT_EQ(c.ceiling_height_at(40.0, 15.0), 2.5);
+  EXPECT_EQ(c.zone_at(10.0, 0.0), -1);
+  EXPECT_EQ(c.zone_at(30.0, 0.0), 0);
+  EXPECT_EQ(c.zone_at(40.0, 15.0), -1);
 }
 
 TEST(CourseFile, YamlAndJsonRoundTripExactly) {

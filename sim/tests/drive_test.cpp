@@ -159,6 +159,29 @@ TEST(Drive, ShortCourseFinishesOnTheTape) {
   EXPECT_LT(s.final_position_error_m, 0.02);
 }
 
+// The map's heights 3 % high: the tape end at the gap, tracked over the
+// frames against the odometry (seed 000 eq. 44), gives the ceiling's height
+// within half a percent, and the height filter's sigma covers its error.
+TEST(Drive, TapeEndFlowMeasuresTheCeilingWhereTheMapIsWrong) {
+  DriveConfig c = config(drivers::Backend::fast);
+  c.ceiling.map_scale = 1.03;
+  Drive d(c);
+  d.run();
+  const DriveSummary s = d.summary();
+  EXPECT_GE(s.ceiling_counters.flow_accepted, 1);
+  EXPECT_EQ(s.ceiling_counters.flow_rejected, 0);
+  // Above the camera (0.3 m high) the map is (2.575 - 0.3) / 2.2 = 3.4 % high.
+  const double map_ratio = (2.5 * 1.03 - c.camera_height_m) / (2.5 - c.camera_height_m);
+  EXPECT_NEAR(s.ceiling_map_error_rms, map_ratio - 1.0, 1e-9);
+  const DriveRow& end = d.rows().back();
+  EXPECT_NEAR(end.ceiling_true_m, 2.5 - c.camera_height_m, 1e-12);
+  EXPECT_NEAR(end.ceiling_est_m / end.ceiling_true_m, 1.0, 0.005);
+  EXPECT_LT(std::abs(end.ceiling_est_m - end.ceiling_true_m), 3.0 * end.ceiling_sigma_m);
+  // Before the first track ends the estimate is the map's.
+  EXPECT_NEAR(d.rows().front().ceiling_est_m / d.rows().front().ceiling_true_m, map_ratio, 1e-9);
+  EXPECT_EQ(d.rows().front().ceiling_est_m, d.rows().front().ceiling_map_m);
+}
+
 TEST(Drive, ModelBackendDrivesTheSameTrajectoryAsFast) {
   Drive fast(config(drivers::Backend::fast));
   Drive model(config(drivers::Backend::model));
