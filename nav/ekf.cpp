@@ -77,6 +77,7 @@ Covariance Ekf::bias_prior(const MeasurementBiasModel& b) {
   p(state::tape_offset_bias, state::tape_offset_bias) =
       b.tape_offset_sigma_m * b.tape_offset_sigma_m;
   p(state::landmark_bias, state::landmark_bias) = b.landmark_sigma_m * b.landmark_sigma_m;
+  p(state::ceiling_scale, state::ceiling_scale) = b.ceiling_scale_sigma * b.ceiling_scale_sigma;
   return p;
 }
 
@@ -123,12 +124,15 @@ void Ekf::propagate(State& x, Covariance& p, const OdometryStep& step) const {
   // stationary (and splits exactly when a step is split).
   const MeasurementBiasModel& bm = opt_.bias;
   const double view_moved = 0.5 * std::abs(l + r) + bm.turn_length_m_per_rad * std::abs(r - l) / b;
-  Eigen::Matrix<double, 3, 1> bias_var;
+  constexpr int nb = state::biases;
+  Eigen::Matrix<double, nb, 1> bias_var;
   bias_var << bm.tape_yaw_sigma_rad * bm.tape_yaw_sigma_rad,
-      bm.tape_offset_sigma_m * bm.tape_offset_sigma_m, bm.landmark_sigma_m * bm.landmark_sigma_m;
-  const double lengths[3] = {bm.tape_length_m, bm.tape_length_m, bm.landmark_length_m};
-  Eigen::Matrix<double, 3, 1> bias_q;
-  for (int i = 0; i < 3; ++i) {
+      bm.tape_offset_sigma_m * bm.tape_offset_sigma_m, bm.landmark_sigma_m * bm.landmark_sigma_m,
+      bm.ceiling_scale_sigma * bm.ceiling_scale_sigma;
+  const double lengths[nb] = {bm.tape_length_m, bm.tape_length_m, bm.landmark_length_m,
+                              bm.ceiling_length_m};
+  Eigen::Matrix<double, nb, 1> bias_q;
+  for (int i = 0; i < nb; ++i) {
     const double phi = std::exp(-view_moved / lengths[i]);
     f(state::tape_yaw_bias + i, state::tape_yaw_bias + i) = phi;
     bias_q(i) = bias_var(i) * (1.0 - phi * phi);
@@ -138,9 +142,9 @@ void Ekf::propagate(State& x, Covariance& p, const OdometryStep& step) const {
   x(state::x) = next.x_m;
   x(state::y) = next.y_m;
   x(state::yaw) = next.yaw_rad;
-  x.tail<3>() = f.bottomRightCorner<3, 3>().diagonal().cwiseProduct(x.tail<3>());
+  x.tail<nb>() = f.bottomRightCorner<nb, nb>().diagonal().cwiseProduct(x.tail<nb>());
   p = f * p * f.transpose() + g * q.asDiagonal() * g.transpose();
-  p.bottomRightCorner<3, 3>() += bias_q.asDiagonal();
+  p.bottomRightCorner<nb, nb>() += bias_q.asDiagonal();
   p = 0.5 * (p + p.transpose());
 }
 
@@ -189,17 +193,25 @@ Outcome Ekf::correct_tape(State& x, Covariance& p, const TapeMeasurement& m) con
   // z = h(camera) + b + noise: the segment is chosen for the measurement less
   // the biases' estimate, their variance added to its own; the gate and the
   // update then use the full Jacobian (the biases' covariance with the pose).
+  // The offset is (1 + kappa) times the true one (the ceiling scale): the
+  // segment is chosen at the true scale, z_off = (1 + kappa) h_off + b_off.
+  const double k1 = 1.0 + x(state::ceiling_scale);
   TapeMeasurement unbiased = m;
   unbiased.yaw_rad = wrap_angle(m.yaw_rad - x(state::tape_yaw_bias));
-  unbiased.offset_m = m.offset_m - x(state::tape_offset_bias);
+  unbiased.offset_m = (m.offset_m - x(state::tape_offset_bias)) / k1;
   unbiased.covariance += p.block<2, 2>(state::tape_yaw_bias, state::tape_yaw_bias);
+  unbiased.covariance.row(1) /= k1;
+  unbiased.covariance.col(1) /= k1;
   const std::optional<Association> a =
       map_->associate(unbiased, camera_pose(x), pc, opt_.association);
   if (!a) return Outcome::unassociated;
   Eigen::Matrix<double, 2, state::size> h = a->prediction.jacobian * jc;
+  h.row(1) *= k1;
+  h(1, state::ceiling_scale) = a->prediction.h(1);
   h(0, state::tape_yaw_bias) = 1.0;
   h(1, state::tape_offset_bias) = 1.0;
-  const Eigen::Vector2d nu = tape_innovation(unbiased, a->prediction);
+  Eigen::Vector2d nu = tape_innovation(unbiased, a->prediction);
+  nu(1) *= k1;  // m_off - b_off - (1 + kappa) h_off
   const Eigen::Matrix2d s = h * p * h.transpose() + m.covariance;
   if (nu.dot(s.ldlt().solve(nu)) > gate_tape_) return Outcome::rejected_gate;
   kalman_update<2>(x, p, h, nu, s, m.covariance);
@@ -233,10 +245,14 @@ Outcome Ekf::correct_landmark(State& x, Covariance& p, const LandmarkMeasurement
     if (!u) continue;
     const Eigen::Vector2d rel = l.position - cam;
     if (rel.norm() > opt_.association.view_radius_m + 1.0) continue;
-    const double predicted = rel.dot(*u);
+    // z = (1 + kappa) (L - c) . u + b + noise.
+    const double k1 = 1.0 + x(state::ceiling_scale);
+    const double true_distance = rel.dot(*u);
+    const double predicted = k1 * true_distance;
     const Eigen::Matrix<double, 1, 3> hc(-u->x(), -u->y(), 0.0);
-    Eigen::Matrix<double, 1, state::size> h = hc * jc;
-    h(0, state::landmark_bias) = 1.0;  // z = (L - c) . u + b + noise
+    Eigen::Matrix<double, 1, state::size> h = k1 * hc * jc;
+    h(0, state::ceiling_scale) = true_distance;
+    h(0, state::landmark_bias) = 1.0;
     const double s = (h * p * h.transpose())(0, 0) + m.variance_m2;
     const double nu = m.along_m - predicted - x(state::landmark_bias);
     if (nu * nu / s < best) {
@@ -253,6 +269,36 @@ Outcome Ekf::correct_landmark(State& x, Covariance& p, const LandmarkMeasurement
   return Outcome::accepted;
 }
 
+// z = used / ((1 + kappa) (1 + e_bar)), e_bar = (e_l + e_r) / 2 against the
+// odometry (else e_bar = 0): the ceiling scale's relation to a measured height.
+Outcome Ekf::correct_height(State& x, Covariance& p, const CeilingHeight& m) const {
+  const double k1 = 1.0 + x(state::ceiling_scale);
+  const double e1 =
+      m.against_odometry ? 1.0 + 0.5 * (x(state::left_scale) + x(state::right_scale)) : 1.0;
+  const double predicted = m.used_m / (k1 * e1);
+  Eigen::Matrix<double, 1, state::size> h = Eigen::Matrix<double, 1, state::size>::Zero();
+  h(0, state::ceiling_scale) = -predicted / k1;
+  if (m.against_odometry) {
+    h(0, state::left_scale) = h(0, state::right_scale) = -0.5 * predicted / e1;
+  }
+  const double r = m.sigma_m * m.sigma_m;
+  const double s = (h * p * h.transpose())(0, 0) + r;
+  const double nu = m.height_m - predicted;
+  if (nu * nu / s > gate_landmark_) return Outcome::rejected_gate;
+  kalman_update<1>(x, p, h, Eigen::Matrix<double, 1, 1>(nu), Eigen::Matrix<double, 1, 1>(s),
+                   Eigen::Matrix<double, 1, 1>(r));
+  return Outcome::accepted;
+}
+
+double Ekf::ceiling_height(double used_m) const {
+  return used_m / (1.0 + state()(state::ceiling_scale));
+}
+
+double Ekf::ceiling_height_sigma(double used_m) const {
+  const double k1 = 1.0 + state()(state::ceiling_scale);
+  return used_m / (k1 * k1) * std::sqrt(covariance()(state::ceiling_scale, state::ceiling_scale));
+}
+
 Outcome Ekf::correct(State& x, Covariance& p, const Measurement& m) const {
   switch (m.kind) {
     case Measurement::Kind::tape:
@@ -261,14 +307,17 @@ Outcome Ekf::correct(State& x, Covariance& p, const Measurement& m) const {
       return correct_pattern(x, p, m.pattern);
     case Measurement::Kind::landmark:
       return correct_landmark(x, p, m.landmark);
+    case Measurement::Kind::height:
+      return correct_height(x, p, m.height);
   }
   return Outcome::not_ok;
 }
 
 void Ekf::count(const Measurement& m, Outcome o, int delta) {
-  KindCounters& k = m.kind == Measurement::Kind::tape      ? counters_.tape
-                    : m.kind == Measurement::Kind::pattern ? counters_.pattern
-                                                           : counters_.landmark;
+  KindCounters& k = m.kind == Measurement::Kind::tape       ? counters_.tape
+                    : m.kind == Measurement::Kind::pattern  ? counters_.pattern
+                    : m.kind == Measurement::Kind::landmark ? counters_.landmark
+                                                            : counters_.height;
   switch (o) {
     case Outcome::accepted:
       k.accepted += delta;
@@ -373,6 +422,17 @@ Outcome Ekf::update(const LandmarkMeasurement& m) {
   Measurement s;
   s.kind = Measurement::Kind::landmark;
   s.landmark = m;
+  return submit(s);
+}
+
+Outcome Ekf::update(const CeilingHeight& m) {
+  if (m.status == MeasurementStatus::ok &&
+      (!std::isfinite(m.height_m) || !(m.sigma_m > 0.0) || !(m.used_m > 0.0))) {
+    throw std::invalid_argument("CeilingHeight: needs a finite height, sigma > 0 and used > 0");
+  }
+  Measurement s;
+  s.kind = Measurement::Kind::height;
+  s.height = m;
   return submit(s);
 }
 

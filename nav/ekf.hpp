@@ -23,11 +23,15 @@ namespace ceilnav::nav {
 // (true travel = (1 + e) * measured) and the heading scale error e_w (true
 // heading change = (1 + e_w) * (r - l) / b: the effective wheel base's error),
 // and the vision's systematic errors (MeasurementBiasModel): the tape
-// measurement's yaw and offset biases and the landmark distances' bias.
+// measurement's yaw and offset biases, the landmark distances' bias, and the
+// relative error kappa of the ceiling height the vision measured with
+// (h_used = (1 + kappa) h_true, which scales every offset and distance).
 namespace state {
 inline constexpr int x = 0, y = 1, yaw = 2, left_scale = 3, right_scale = 4, yaw_scale = 5;
 inline constexpr int tape_yaw_bias = 6, tape_offset_bias = 7, landmark_bias = 8;
-inline constexpr int size = 9;
+inline constexpr int ceiling_scale = 9;
+inline constexpr int size = 10;
+inline constexpr int biases = size - tape_yaw_bias;  // the Gauss-Markov states at the end
 }  // namespace state
 using State = Eigen::Matrix<double, state::size, 1>;
 using Covariance = Eigen::Matrix<double, state::size, state::size>;
@@ -59,12 +63,24 @@ struct OdometryModel {
 // moves: exp(-D / length) for D = |travel| + turn_length_m_per_rad |turn|
 // (docs/navigation.md, "Systematic errors"). With the sigmas 0 (the default)
 // the states stay 0 with zero variance and the filter is the one without them.
+//
+// The ceiling scale kappa is the relative error of the ceiling height above
+// the camera that the vision measured with (the map's, where the camera
+// looks): a tape offset and a landmark distance come out (1 + kappa) times
+// the true ones, z = (1 + kappa) h(x) + b + noise. Its sigma is the map's
+// survey error (relative); its length the distance over which the map's
+// error stays the same (a zone of the ceiling). A measured height
+// (CeilingHeight) observes it directly; so does a landmark seen from several
+// distances while the odometry measures the travel (the flow of seed 000,
+// eq. 44, inside the filter).
 struct MeasurementBiasModel {
   double tape_yaw_sigma_rad = 0.0;
   double tape_offset_sigma_m = 0.0;
   double landmark_sigma_m = 0.0;
+  double ceiling_scale_sigma = 0.0;
   double tape_length_m = 2.0;      // the tape's place in the image changes slowly while following
   double landmark_length_m = 1.0;  // about the stretch over which one landmark stays in view
+  double ceiling_length_m = 20.0;  // about a ceiling zone
   double turn_length_m_per_rad = 1.0;
 };
 
@@ -110,7 +126,7 @@ struct KindCounters {
   int accepted = 0, pending = 0, rejected_gate = 0, unassociated = 0, too_old = 0, not_ok = 0;
 };
 struct Counters {
-  KindCounters tape, pattern, landmark;
+  KindCounters tape, pattern, landmark, height;
   int repropagated_steps = 0;  // odometry steps re-propagated by retroactive corrections
 };
 
@@ -136,6 +152,13 @@ class Ekf {
   // kind whose predicted distance is nearest in Mahalanobis terms, among
   // those ahead of the camera within the association's view radius.
   Outcome update(const LandmarkMeasurement& m);
+  // A measured ceiling height above the camera: observes the ceiling scale
+  // (and, when measured against the odometry, the wheels' scale errors).
+  Outcome update(const CeilingHeight& m);
+  // The ceiling height above the camera the filter believes, for the height
+  // `used_m` the vision measured with: used / (1 + kappa), and its sigma.
+  double ceiling_height(double used_m) const;
+  double ceiling_height_sigma(double used_m) const;
 
   double time() const { return history_.back().t_s; }
   const State& state() const { return history_.back().x; }
@@ -163,17 +186,22 @@ class Ekf {
   // One of the two kinds (a tagged pair: std::variant trips GCC 12's
   // maybe-uninitialized analysis in the sorting of the pending list).
   struct Measurement {
-    enum class Kind { tape, pattern, landmark } kind = Kind::tape;
+    enum class Kind { tape, pattern, landmark, height } kind = Kind::tape;
     TapeMeasurement tape;
     PatternFix pattern;
     LandmarkMeasurement landmark;
+    CeilingHeight height;
     const MeasurementTime& time() const {
-      return kind == Kind::tape ? tape.time : kind == Kind::pattern ? pattern.time : landmark.time;
+      return kind == Kind::tape       ? tape.time
+             : kind == Kind::pattern  ? pattern.time
+             : kind == Kind::landmark ? landmark.time
+                                      : height.time;
     }
     MeasurementStatus status() const {
-      return kind == Kind::tape      ? tape.status
-             : kind == Kind::pattern ? pattern.status
-                                     : landmark.status;
+      return kind == Kind::tape       ? tape.status
+             : kind == Kind::pattern  ? pattern.status
+             : kind == Kind::landmark ? landmark.status
+                                      : height.status;
     }
     double exposure_s() const { return time().exposure_s; }
     bool ok() const { return status() == MeasurementStatus::ok; }
@@ -195,6 +223,7 @@ class Ekf {
   Outcome correct_tape(State& x, Covariance& p, const TapeMeasurement& m) const;
   Outcome correct_pattern(State& x, Covariance& p, const PatternFix& m) const;
   Outcome correct_landmark(State& x, Covariance& p, const LandmarkMeasurement& m) const;
+  Outcome correct_height(State& x, Covariance& p, const CeilingHeight& m) const;
   std::size_t entry_at(double t_s);  // index of the entry at t_s, splitting a step
   void repropagate_after(std::size_t k);
   void count(const Measurement& m, Outcome o, int delta);

@@ -66,13 +66,22 @@ struct LandmarkMeasurement {
   double variance_m2 = 1e-4;
 };
 
-// Ceiling height above the camera (host/flow_height): configures the tape and
-// pattern estimators; the planar filter does not use it.
+// Ceiling height above the camera (host/flow_height): the flow of a tracked
+// ceiling feature against the odometry (host::FlowTrack, seed 000 eq. 44) or
+// the tape's image width (host::ceiling_height_from_tape_width). The filter
+// compares it with used_m, the height the vision measured its offsets and
+// distances with at that time (the map's): it observes the ceiling scale
+// state. A flow height measured against the raw wheel odometry also carries
+// the wheels' scale error (true travel = (1 + e) measured), so
+//   z = used / ((1 + kappa) (1 + (e_l + e_r) / 2))   (against_odometry)
+//   z = used / (1 + kappa)                           (otherwise).
 struct CeilingHeight {
   MeasurementTime time;
   MeasurementStatus status = MeasurementStatus::ok;
   double height_m = 0.0;
   double sigma_m = 0.0;
+  double used_m = 0.0;
+  bool against_odometry = true;
 };
 
 }  // namespace ceilnav::nav

@@ -114,7 +114,6 @@ Drive::Drive(const DriveConfig& config)
   map_course_ = config_.course;
   map_course_.ceiling_height_m *= config_.ceiling.map_scale;
   for (HeightZone& z : map_course_.zones) z.height_m *= config_.ceiling.map_scale;
-  heights_ = nav::CeilingHeightFilter(config_.ceiling.filter);
   flow_ =
       std::make_unique<host::FlowTrack>(config_.camera.camera_pitch_deg * std::numbers::pi / 180.0,
                                         config_.camera.ceiling_above_camera_m());
@@ -423,9 +422,7 @@ void Drive::expose_frame(int index, double t0) {
   // The host measured at the configured ceiling height; the map's height
   // where the camera looks scales the offset (it is proportional to the
   // ceiling above the camera), and the landmarks are measured at that
-  // height. (The flow's estimate of the height is reported beside it, not
-  // used: its error is shared by every measurement of a zone and needs a
-  // state of the pose filter, docs/navigation.md "Ceiling height".)
+  // height. The filter's ceiling scale state holds that height's error.
   const CeilingView ceiling = ceiling_view(ekf_->camera_pose(ekf_->state()));
   const double above_cfg = config_.camera.ceiling_above_camera_m();
   const double height_factor = ceiling.map_m / above_cfg;
@@ -435,9 +432,12 @@ void Drive::expose_frame(int index, double t0) {
     m.covariance(0, 1) *= height_factor;
     m.covariance(1, 0) *= height_factor;
   }
-  if (config_.ceiling.fuse && m.status == nav::MeasurementStatus::ok &&
+  if (config_.ceiling.flow && m.status == nav::MeasurementStatus::ok &&
       pose.method == std::string_view("runs_centre_line")) {
-    measure_ceiling(frame, out, pose, time.exposure_s);
+    track_tape_end(frame, out, pose, time);
+  } else if (flow_fit_ && ++flow_idle_frames_ > 5) {
+    submit_flow_fit();
+    flow_->reset();
   }
   Pending tape;
   tape.m = m;
@@ -473,10 +473,9 @@ void Drive::expose_frame(int index, double t0) {
   }
 }
 
-Drive::CeilingView Drive::ceiling_view(const nav::Pose2& cam) {
+Drive::CeilingView Drive::ceiling_view(const nav::Pose2& cam) const {
   // The look point: where the optical axis meets the ceiling at the
-  // configured height (the zone is what matters; its border is not known
-  // better than that).
+  // configured height (the zone is what matters).
   const double above_cfg = config_.camera.ceiling_above_camera_m();
   const double p = config_.camera.camera_pitch_deg * std::numbers::pi / 180.0;
   const double reach = std::abs(std::cos(p)) < 1e-9 ? 0.0 : above_cfg / std::tan(p);
@@ -486,82 +485,63 @@ Drive::CeilingView Drive::ceiling_view(const nav::Pose2& cam) {
   v.zone = map_course_.zone_at(x, y);
   v.map_m = map_course_.ceiling_height_at(x, y) - config_.camera.camera_height_m;
   v.truth_m = config_.course.ceiling_height_at(x, y) - config_.camera.camera_height_m;
-  v.estimate_m = v.map_m;
-  if (config_.ceiling.fuse) {
-    const nav::CeilingHeightFilter::Estimate e = heights_.estimate(v.zone, v.map_m);
-    v.estimate_m = e.height_m;
-    v.sigma_m = e.sigma_m;
-  } else {
-    v.sigma_m = config_.ceiling.filter.map_sigma_fraction * v.map_m;
-  }
+  v.estimate_m = ekf_->ceiling_height(v.map_m);
+  v.sigma_m = ekf_->ceiling_height_sigma(v.map_m);
   return v;
 }
 
-void Drive::feed_flow_fit() {
+void Drive::submit_flow_fit() {
   // A finished track's fit is one measurement (the fits of a growing track
-  // share its frames: only the last counts). Its feature lies range_m ahead
-  // of the camera's last position.
+  // share its frames: only the last counts), taken at its last frame. Its
+  // feature lies range_m ahead of the camera there; a feature under another
+  // zone than the one the camera looks at (a zone's border) is not used.
   if (flow_fit_ && flow_fit_->status == host::Status::ok &&
       flow_fit_->std_error_m <= 0.02 * flow_fit_->ceiling_above_camera_m) {
-    const int zone = map_course_.zone_at(flow_feature_x_m_, flow_feature_y_m_);
-    const double map_m = map_course_.ceiling_height_at(flow_feature_x_m_, flow_feature_y_m_) -
-                         config_.camera.camera_height_m;
-    heights_.update(zone, map_m, nav::CeilingHeightFilter::Source::flow,
-                    flow_fit_->ceiling_above_camera_m, flow_fit_->std_error_m);
+    const nav::Pose2 cam = ekf_->camera_pose(ekf_->state());
+    const CeilingView look = ceiling_view(cam);
+    const double fx = cam.x_m + flow_fit_->range_m * std::cos(cam.yaw_rad);
+    const double fy = cam.y_m + flow_fit_->range_m * std::sin(cam.yaw_rad);
+    if (map_course_.zone_at(fx, fy) == look.zone) {
+      Pending h;
+      h.kind = Pending::Kind::height;
+      h.height.time = flow_time_;
+      h.height.height_m = flow_fit_->ceiling_above_camera_m;
+      h.height.sigma_m = flow_fit_->std_error_m;
+      h.height.used_m = look.map_m;
+      h.height.against_odometry = true;
+      pending_.push_back(h);
+    }
   }
   flow_fit_.reset();
   flow_idle_frames_ = 0;
 }
 
-void Drive::close_flow_track() {
-  feed_flow_fit();
-  flow_->reset();
-}
-
-void Drive::measure_ceiling(const cv::Mat& frame, const host::FrameOutcome& out,
-                            const host::TapePose& pose, double exposure_s) {
-  const host::CameraModel& cam = navigator_->camera_model();
-  // The tape's image width: no odometry; a frame's white error is its rows'
-  // scatter, at least 0.1 % (the per-frame RMS on renders, docs/host_maths.md
-  // section 6a).
-  // Not while turning: the rotation smears the tape across the rows by
-  // omega x exposure x fx pixels, which the width's plateau does not allow
-  // for (measured in pivots: 1-3 % low); a quarter pixel is the limit.
-  const bool still =
-      odometry_yaw_rate_radps_ * config_.exposure_s * config_.camera.camera_matrix[0] < 0.25;
-  const host::WidthHeight w =
-      still ? host::ceiling_height_from_tape_width(frame, out.runs, cam, config_.camera, pose)
-            : host::WidthHeight{};
-  if (w.status == host::Status::ok) {
-    const CeilingView v = ceiling_view(ekf_->camera_pose(ekf_->state()));
-    heights_.update(v.zone, v.map_m, nav::CeilingHeightFilter::Source::width,
-                    w.ceiling_above_camera_m,
-                    std::max(w.std_error_m, 1e-3 * w.ceiling_above_camera_m));
-  }
-  // A tape end's flow against the odometry's own dead reckoning (not the
-  // filter's, which the landmarks measured at this height correct).
+void Drive::track_tape_end(const cv::Mat& frame, const host::FrameOutcome& out,
+                           const host::TapePose& pose, const nav::MeasurementTime& time) {
+  // A tape end's flow against the odometry's own dead reckoning (the raw
+  // wheel readings: the filter relates the fit to its wheel scale states).
   const std::optional<Eigen::Vector2d> end =
-      host::find_tape_end(frame, out.runs, cam, config_.camera, pose);
+      host::find_tape_end(frame, out.runs, navigator_->camera_model(), config_.camera, pose);
   if (!end) {
-    if (flow_fit_ && ++flow_idle_frames_ > 5) close_flow_track();
+    if (flow_fit_ && ++flow_idle_frames_ > 5) {
+      submit_flow_fit();
+      flow_->reset();
+    }
     return;
   }
-  const nav::Pose2 o = odometry_track_.at(exposure_s);
+  const nav::Pose2 o = odometry_track_.at(time.exposure_s);
   const nav::CameraMount& mnt = config_.believed_mount;
   const double c = std::cos(o.yaw_rad), s = std::sin(o.yaw_rad);
   const nav::Pose2 camera{o.x_m + c * mnt.forward_m - s * mnt.left_m,
                           o.y_m + s * mnt.forward_m + c * mnt.left_m, o.yaw_rad + mnt.yaw_rad};
   // A new track begins with this observation when it does not continue the
   // current one: the previous track is over.
-  if (!flow_->add(camera, *end)) feed_flow_fit();
+  if (!flow_->add(camera, *end)) submit_flow_fit();
   flow_idle_frames_ = 0;
   const host::FlowFit f = flow_->fit();
   if (f.status == host::Status::ok) {
     flow_fit_ = f;
-    // The feature in the world, from the filter's camera (for its zone).
-    const nav::Pose2 fc = ekf_->camera_pose(ekf_->state());
-    flow_feature_x_m_ = fc.x_m + f.range_m * std::cos(fc.yaw_rad);
-    flow_feature_y_m_ = fc.y_m + f.range_m * std::sin(fc.yaw_rad);
+    flow_time_ = time;
   }
 }
 
@@ -586,8 +566,6 @@ bool Drive::step() {
   const double travel = std::abs(nav::motion_of(odo, config_.robot.wheel_base_m).distance_m);
   blind_m_ += travel;
   odometry_speed_mps_ = travel / dt_;
-  odometry_yaw_rate_radps_ =
-      std::abs(nav::motion_of(odo, config_.robot.wheel_base_m).dyaw_rad) / dt_;
   exposed_frame_ = -1;
   exposed_status_.clear();
   if (config_.vision) {
@@ -603,13 +581,17 @@ bool Drive::step() {
     const Pending& pm = pending_[used];
     const nav::Outcome o = pm.kind == Pending::Kind::landmark  ? ekf_->update(pm.landmark)
                            : pm.kind == Pending::Kind::pattern ? ekf_->update(pm.pattern)
+                           : pm.kind == Pending::Kind::height  ? ekf_->update(pm.height)
                                                                : ekf_->update(pm.m);
-    // A landmark's outcome shows when it was accepted, else the tape's does;
-    // a pattern fix's always does.
-    if (pm.kind == Pending::Kind::landmark && o != nav::Outcome::accepted) continue;
+    // A landmark's or height's outcome shows when it was accepted, else the
+    // tape's does; a pattern fix's always does.
+    if ((pm.kind == Pending::Kind::landmark || pm.kind == Pending::Kind::height) &&
+        o != nav::Outcome::accepted)
+      continue;
     row.frame = pm.frame;
     row.outcome = outcome_name(o);
     if (pm.kind == Pending::Kind::landmark) row.outcome += "_landmark";
+    if (pm.kind == Pending::Kind::height) row.outcome += "_height";
     if (pm.kind == Pending::Kind::pattern) {
       row.outcome += "_pattern";
       row.station = pattern_records_[static_cast<std::size_t>(pm.record)].station;
@@ -731,7 +713,6 @@ DriveSummary Drive::summary() const {
     s.ceiling_error_rms = std::sqrt(ss_c / static_cast<double>(rows_.size()));
     s.ceiling_map_error_rms = std::sqrt(ss_map / static_cast<double>(rows_.size()));
   }
-  s.ceiling_counters = heights_.counters();
   for (std::size_t k = 0; k < stations_.size(); ++k) {
     DriveSummary::Station st;
     st.id = stations_[k].id;

@@ -19,7 +19,6 @@
 #include "host/flow_height.hpp"
 #include "host/nav_measurements.hpp"
 #include "host/navigator.hpp"
-#include "nav/ceiling_height.hpp"
 #include "nav/ekf.hpp"
 #include "nav/guidance.hpp"
 #include "sim/course.hpp"
@@ -52,13 +51,13 @@ struct DriveConfig {
   } landmark_noise;
   bool landmarks = true;  // false: tape measurements only
   // The ceiling's height above the camera where it looks (docs/navigation.md,
-  // "Ceiling height"): per zone of the map, the map's height fused with the
-  // tape's image width and the flow of tape ends against the odometry
-  // (nav::CeilingHeightFilter). The host's tape offsets and landmark
-  // distances are measured at that height.
+  // "Ceiling height"): the vision measures its offsets and distances with the
+  // map's height there; the filter's ceiling scale state (ekf.bias) holds
+  // that height's relative error, observed by the landmarks and, with
+  // `flow`, by the flow of tape ends against the wheel odometry (seed 000,
+  // eq. 44: host::FlowTrack) as CeilingHeight measurements.
   struct Ceiling {
-    bool fuse = true;  // false: the map's height as it is
-    nav::CeilingHeightOptions filter;
+    bool flow = true;
     // The map's heights (the default ceiling's and every zone's) are the
     // course's times this: a wrong survey, for tests.
     double map_scale = 1.0;
@@ -146,8 +145,9 @@ struct DriveRow {
   std::string frame_status;
   std::string outcome;
   int station = -1;  // the applied measurement is a fix of this map station (index)
-  // The ceiling above the camera where it looks: the height filter's
-  // estimate and sigma, the map's height, and the truth (the course's).
+  // The ceiling above the camera where it looks: the filter's estimate (the
+  // map's height over 1 + its ceiling scale) and sigma, the map's height,
+  // and the truth (the course's).
   double ceiling_est_m = 0.0, ceiling_sigma_m = 0.0, ceiling_map_m = 0.0, ceiling_true_m = 0.0;
 };
 
@@ -181,11 +181,9 @@ struct DriveSummary {
   // covariance) and the end's pose NEES.
   double final_position_sigma_m = 0.0, final_pose_nees = 0.0;
   double wall_time_s = 0.0, realtime_factor = 0.0;
-  // The ceiling height's estimate against the truth over the ticks (RMS
-  // and largest error, relative), the map's own error there, and the
-  // measurements the height filter took and refused.
+  // The filter's ceiling height where the camera looks against the truth
+  // over the ticks (RMS and largest error, relative), and the map's own.
   double ceiling_error_rms = 0.0, ceiling_error_max = 0.0, ceiling_map_error_rms = 0.0;
-  nav::CeilingHeightFilter::Counters ceiling_counters;
 };
 
 class Drive {
@@ -205,33 +203,34 @@ class Drive {
 
  private:
   struct Pending {
-    enum class Kind { tape, landmark, pattern };
+    enum class Kind { tape, landmark, pattern, height };
     Kind kind = Kind::tape;
     nav::TapeMeasurement m;
     nav::LandmarkMeasurement landmark;
     nav::PatternFix pattern;
+    nav::CeilingHeight height;
     int frame = 0;
     int record = -1;  // pattern: index in pattern_records_
     double available_s() const {
       return kind == Kind::landmark  ? landmark.time.available_s
              : kind == Kind::pattern ? pattern.time.available_s
+             : kind == Kind::height  ? height.time.available_s
                                      : m.time.available_s;
     }
   };
   void expose_frame(int index, double t0);
   // The ceiling above the camera at `camera`'s look point: the map's zone
-  // key and height, and the estimate to measure with.
+  // and height, the filter's estimate, and the truth.
   struct CeilingView {
     int zone = -1;
     double map_m = 0.0, estimate_m = 0.0, sigma_m = 0.0, truth_m = 0.0;
   };
-  CeilingView ceiling_view(const nav::Pose2& camera);
-  // The tape's width and a tape end's flow as measurements of the ceiling
-  // height (frame at exposure time `exposure_s`).
-  void measure_ceiling(const cv::Mat& frame, const host::FrameOutcome& out,
-                       const host::TapePose& pose, double exposure_s);
-  void feed_flow_fit();
-  void close_flow_track();
+  CeilingView ceiling_view(const nav::Pose2& camera) const;
+  // A tape end's flow against the odometry (frame exposed at `time`).
+  void track_tape_end(const cv::Mat& frame, const host::FrameOutcome& out,
+                      const host::TapePose& pose, const nav::MeasurementTime& time);
+  // The current track's fit as a CeilingHeight measurement, then forget it.
+  void submit_flow_fit();
   // The nearest mapped station whose panel the filter's predicted view
   // shows whole, and the image region the pattern passes stream.
   struct StationView {
@@ -254,15 +253,15 @@ class Drive {
   nav::TapeMap map_;
   std::unique_ptr<nav::Ekf> ekf_;
   Course map_course_;  // the course as the map has it (its heights: ceiling.map_scale)
-  nav::CeilingHeightFilter heights_;
   // Tape-end flow: the odometry's own dead reckoning (nominal wheel scales),
-  // the current track and its latest fit, frames since it last grew.
+  // the current track, its latest fit and that fit's frame time, frames
+  // since it last grew.
   nav::Pose2 odometry_pose_;
   PoseTrack odometry_track_;
   std::unique_ptr<host::FlowTrack> flow_;
   std::optional<host::FlowFit> flow_fit_;
+  nav::MeasurementTime flow_time_;
   int flow_idle_frames_ = 0;
-  double flow_feature_x_m_ = 0.0, flow_feature_y_m_ = 0.0;
   nav::PathFollower follower_;
   std::unique_ptr<drivers::Device> device_;  // the Navigator's and the stations'
   std::unique_ptr<host::Navigator> navigator_;
@@ -276,8 +275,7 @@ class Drive {
   int next_frame_ = 0;
   int frames_ = 0, frames_ok_ = 0;
   double blind_m_ = 0.0, driven_m_ = 0.0;
-  double odometry_speed_mps_ = 0.0;       // the last tick's, from the wheels
-  double odometry_yaw_rate_radps_ = 0.0;  // its turn rate's magnitude
+  double odometry_speed_mps_ = 0.0;  // the last tick's, from the wheels
   std::string exposed_status_;
   int exposed_frame_ = -1;
   bool over_ = false;

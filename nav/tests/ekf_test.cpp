@@ -77,7 +77,7 @@ double single_fraction_in_band(const std::vector<sim::RunResult>& runs, bool pos
 TEST(Ekf, PropagationJacobiansMatchFiniteDifferences) {
   EkfOptions opt;
   State x;
-  x << 1.0, -0.5, 0.7, 0.01, -0.02, 0.03, 2e-4, -3e-4, 1e-3;
+  x << 1.0, -0.5, 0.7, 0.01, -0.02, 0.03, 2e-4, -3e-4, 1e-3, 2e-3;
   const OdometryStep step{0.01, 0.048, 0.061};
   // Mean of one step as a function of the state and of the wheel readings.
   auto mean = [&](const State& s, const OdometryStep& st) {
@@ -110,7 +110,7 @@ TEST(Ekf, PropagationJacobiansMatchFiniteDifferences) {
   // d(pose)/d(e_w) / ((r - l)/b).
   opt.odometry = OdometryModel{};
   State x0 = x;
-  x0.tail<6>().setZero();
+  x0.tail<state::size - 3>().setZero();
   auto column = [&](int which) {
     State a, b;
     if (which < 2) {
@@ -126,7 +126,8 @@ TEST(Ekf, PropagationJacobiansMatchFiniteDifferences) {
     xb(state::yaw_scale) -= h;
     const double w = (step.right_m - step.left_m) / opt.odometry.wheel_base_m;
     State c = (mean(xa, step) - mean(xb, step)) / (2 * h) / w;
-    c.tail<6>().setZero();  // the noise enters neither the calibration nor the bias states
+    c.tail<state::size - 3>()
+        .setZero();  // the noise enters neither the calibration nor the bias states
     return c;
   };
   Eigen::Matrix<double, state::size, 3> g;
@@ -145,8 +146,8 @@ TEST(Ekf, PropagationJacobiansMatchFiniteDifferences) {
 TEST(Ekf, CameraJacobianMatchesFiniteDifferences) {
   EkfOptions opt;
   opt.mount = {0.15, 0.03, 0.02};
-  State x;
-  x << 1.0, 2.0, 2.5, 0, 0, 0;
+  State x = State::Zero();
+  x.head<3>() << 1.0, 2.0, 2.5;
   const Ekf e(opt, nullptr, 0.0, x, Covariance::Identity());
   const auto j = e.camera_jacobian(x);
   for (int k = 0; k < 3; ++k) {
@@ -352,18 +353,22 @@ TEST(Ekf, BiasStatesAreStationaryGaussMarkov) {
   opt.bias.tape_yaw_sigma_rad = 1e-4;
   opt.bias.tape_offset_sigma_m = 2e-4;
   opt.bias.landmark_sigma_m = 2e-3;
+  opt.bias.ceiling_scale_sigma = 1e-2;
   const Ekf e(opt, nullptr, 0.0, State::Zero(), Covariance::Identity());
   State x = State::Zero();
   x(state::tape_offset_bias) = 1e-4;
   x(state::landmark_bias) = 1e-3;
+  x(state::ceiling_scale) = 5e-3;
   Covariance p = Ekf::bias_prior(opt.bias);
   const OdometryStep step{0.01, 0.05, 0.04};  // wheels 5 and 4 cm: 4.5 cm, 25 mrad
   e.propagate(x, p, step);
   for (int i = state::tape_yaw_bias; i < state::size; ++i)
-    EXPECT_NEAR(p(i, i), Ekf::bias_prior(opt.bias)(i, i), 1e-20) << i;
+    EXPECT_NEAR(p(i, i), Ekf::bias_prior(opt.bias)(i, i), 1e-12 * Ekf::bias_prior(opt.bias)(i, i))
+        << i;
   const double moved = 0.045 + opt.bias.turn_length_m_per_rad * 0.01 / opt.odometry.wheel_base_m;
   EXPECT_NEAR(x(state::tape_offset_bias), 1e-4 * std::exp(-moved / opt.bias.tape_length_m), 1e-15);
   EXPECT_NEAR(x(state::landmark_bias), 1e-3 * std::exp(-moved / opt.bias.landmark_length_m), 1e-15);
+  EXPECT_NEAR(x(state::ceiling_scale), 5e-3 * std::exp(-moved / opt.bias.ceiling_length_m), 1e-15);
   // Sigmas 0 (the default): the states stay 0 with no variance.
   const Ekf off(EkfOptions{}, nullptr, 0.0, State::Zero(), Covariance::Identity());
   State y = State::Zero();
