@@ -312,6 +312,16 @@ Eigen::Vector3d homogeneous_point(const json& obj, const std::string& key, const
   return p.normalized();
 }
 
+// Unknown keys are errors (as in the corridor and course files).
+void only_keys(const json& obj, std::initializer_list<const char*> keys, const std::string& path,
+               const std::string& source) {
+  for (const auto& item : obj.items()) {
+    if (std::none_of(keys.begin(), keys.end(), [&](const char* k) { return item.key() == k; })) {
+      bad(source, path + (path.empty() ? "" : ".") + item.key(), "unknown key");
+    }
+  }
+}
+
 }  // namespace
 
 std::string model_to_json(const CorridorModel& model) {
@@ -361,6 +371,7 @@ CorridorModel model_from_json(const std::string& text, const std::string& source
   }
   CorridorModel m;
   const json& cam = member(j, "camera", "", source);
+
   m.camera.image_width = integer(cam, "image_width", "camera", source, 1);
   m.camera.image_height = integer(cam, "image_height", "camera", source, 1);
   m.camera.fx = number(cam, "fx_px", "camera", source);
@@ -369,6 +380,10 @@ CorridorModel model_from_json(const std::string& text, const std::string& source
   m.camera.cy = number(cam, "cy_px", "camera", source);
   m.camera.tilt_rad = number(cam, "tilt_rad", "camera", source);
   m.camera.swing_rad = number(cam, "swing_rad", "camera", source);
+  only_keys(
+      cam,
+      {"image_width", "image_height", "fx_px", "fy_px", "cx_px", "cy_px", "tilt_rad", "swing_rad"},
+      "camera", source);
   if (!(m.camera.fx > 0.0)) bad(source, "camera.fx_px", "must be > 0");
   if (!(m.camera.fy > 0.0)) bad(source, "camera.fy_px", "must be > 0");
   if (!(std::abs(m.camera.tilt_rad) < 0.5 * kPi))
@@ -379,6 +394,7 @@ CorridorModel model_from_json(const std::string& text, const std::string& source
   const json& vps = member(j, "vanishing_points", "", source);
   m.axis_vp = homogeneous_point(vps, "axis", "vanishing_points", source);
   m.cross_vp = homogeneous_point(vps, "cross", "vanishing_points", source);
+  only_keys(vps, {"axis", "cross"}, "vanishing_points", source);
   const json& lines = member(j, "lines", "", source);
   if (!lines.is_array() || lines.empty()) bad(source, "lines", "must be a non-empty array");
   for (std::size_t i = 0; i < lines.size(); ++i) {
@@ -391,6 +407,7 @@ CorridorModel model_from_json(const std::string& text, const std::string& source
     ml.line.strength = number(l, "strength", path, source);
     ml.height_m = number(l, "height_m", path, source);
     ml.support = integer(l, "support", path, source, 1);
+    only_keys(l, {"theta_rad", "rho_px", "strength", "height_m", "support"}, path, source);
     if (!(ml.line.theta_rad >= 0.0 && ml.line.theta_rad < kPi))
       bad(source, path + ".theta_rad", "must be in [0, pi)");
     if (!(ml.line.strength >= 0.0)) bad(source, path + ".strength", "must be >= 0");
@@ -401,6 +418,8 @@ CorridorModel model_from_json(const std::string& text, const std::string& source
     ml.inclination = *q;
     m.lines.push_back(ml);
   }
+  only_keys(j, {"format", "version", "camera", "pan_rad", "images", "vanishing_points", "lines"},
+            "", source);
   return m;
 }
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <regex>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -272,14 +273,23 @@ TEST(CorridorModel, ReaderRejectsMalformedFilesNamingTheKey) {
   expect_rejected("[1, 2]", "(top level)");
   expect_rejected(replaced("\"ceilnav_corridor_model\"", "\"other\""), "format");
   expect_rejected(replaced("\"version\": 1", "\"version\": 2"), "version");
-  expect_rejected(replaced("\"fx_px\"", "\"fx\""), "camera.fx_px");
+  expect_rejected(replaced("\"fx_px\"", "\"fx\""), "camera.fx_px: missing");
   expect_rejected(replaced("\"image_width\": 640", "\"image_width\": 0"), "camera.image_width");
   expect_rejected(replaced("\"pan_rad\"", "\"pan\""), "pan_rad");
   expect_rejected(replaced("\"axis\": [", "\"axis\": [1.0, "), "vanishing_points.axis");
-  expect_rejected(replaced("\"theta_rad\": ", "\"theta_rad\": 4.0, \"x\": "), "lines[0].theta_rad");
-  expect_rejected(replaced("\"rho_px\"", "\"rho\""), "lines[0].rho_px");
-  expect_rejected(replaced("\"height_m\": ", "\"height_m\": -1.0, \"y\": "), "lines[0].height_m");
-  expect_rejected(replaced("\"support\": ", "\"support\": \"many\", \"z\": "), "lines[0].support");
+  auto value = [&](const std::string& key, const std::string& to) {
+    return std::regex_replace(good, std::regex("\"" + key + "\": [^,\\n]+"),
+                              "\"" + key + "\": " + to, std::regex_constants::format_first_only);
+  };
+  expect_rejected(value("theta_rad", "4.0"), "lines[0].theta_rad");
+  expect_rejected(value("theta_rad", "\"x\""), "lines[0].theta_rad");
+  expect_rejected(replaced("\"rho_px\"", "\"rho\""), "lines[0].rho_px: missing");
+  expect_rejected(replaced("\"support\"", "\"odd\": 0, \"support\""), "lines[0].odd: unknown key");
+  expect_rejected(value("height_m", "-1.0"), "lines[0].height_m");
+  expect_rejected(value("support", "\"many\""), "lines[0].support");
+  expect_rejected(value("support", "1000"), "lines[0].support");
+  expect_rejected(value("tilt_rad", "2.0"), "camera.tilt_rad");
+  expect_rejected(replaced("\"pan_rad\"", "\"extra\": 1, \"pan_rad\""), "extra: unknown key");
   {
     std::string s = good;
     s.replace(s.find("\"lines\": ["), std::string("\"lines\": [").size(),
