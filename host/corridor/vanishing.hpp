@@ -116,7 +116,7 @@ struct VanishingParams {
   int min_cross_lines = 3;
   // The inliers' share of the strength of all lines given: a corridor's axis
   // lines are most of what the horizontal-gradient Hough sees (>= 0.79 on
-  // every render of the accuracy test; <= 0.55 where the real-image corpus
+  // every render of the accuracy sweeps; <= 0.55 where the real-image corpus
   // lines up 3 or 4 lines by chance).
   double min_axis_support = 0.65;
   double min_cross_support = 0.0;
