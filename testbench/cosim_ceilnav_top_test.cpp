@@ -816,21 +816,16 @@ TEST(CeilnavTopCosim, CorridorAccumulatorThroughRegistersEqualsGolden) {
   b.write(r::hough_geometry::kOffset, r::hough_geometry::kWidth.put(hcfg.width));
   b.write(r::control::kOffset, r::control::kEnable.mask());
 
-  // The golden accumulators, saturated as the cells are.
+  // The golden accumulators (saturated as the cells are).
   std::array<std::vector<uint32_t>, 2> want;
   std::array<size_t, 2> n_edges{};
   for (size_t f = 0; f < frames.size(); ++f) {
     cv::Mat remap;
     cv::Mat mask;
     golden::lut_ref(frames[f], lut, remap, mask);
-    std::vector<golden::EdgePoint> pts;
-    for (const stream::EdgeRecord& e : golden::find_edges_ref(remap, eparams)) {
-      pts.push_back({e.x, e.y});
-    }
+    const std::vector<stream::EdgeRecord> pts = golden::find_edges_ref(remap, eparams);
     n_edges[f] = pts.size();
-    for (const uint64_t c : golden::hough_ref(shape, hcfg, pts)) {
-      want[f].push_back(static_cast<uint32_t>(std::min<uint64_t>(c, shape.acc_max())));
-    }
+    want[f] = golden::hough_cells_ref(shape, hcfg, pts);
   }
   std::printf("[cosim] corridor frames %dx%d: %zu and %zu edge points\n", kW, kH, n_edges[0],
               n_edges[1]);

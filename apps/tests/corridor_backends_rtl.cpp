@@ -85,15 +85,9 @@ TEST(CorridorBackends, AccumulatorEqualOnEveryBackendAndGolden) {
     cv::Mat remap;
     cv::Mat mask;
     golden::lut_ref(frames[i], cfg.lut, remap, mask);
-    std::vector<golden::EdgePoint> pts;
-    for (const stream::EdgeRecord& e :
-         golden::find_edges_ref(remap, {stream::EdgeMode::kSobel, edge.threshold})) {
-      pts.push_back({e.x, e.y});
-    }
-    std::vector<uint32_t> want;
-    for (const uint64_t c : golden::hough_ref(shape, hough, pts)) {
-      want.push_back(static_cast<uint32_t>(std::min<uint64_t>(c, shape.acc_max())));
-    }
+    const std::vector<stream::EdgeRecord> pts =
+        golden::find_edges_ref(remap, {edge.mode, edge.threshold});
+    const std::vector<uint32_t> want = golden::hough_cells_ref(shape, hough, pts);
     ASSERT_GT(pts.size(), 200u) << "frame " << i;
     std::vector<stream::RunRecord> runs;
     uint64_t cycles = 0;

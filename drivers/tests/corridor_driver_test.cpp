@@ -96,14 +96,9 @@ TEST(CorridorDriver, RenderedFrameAccumulatorEqualsGoldenAndEofToReadyCycles) {
     cv::Mat remap;
     cv::Mat mask;
     golden::lut_ref(img, cfg.lut, remap, mask);
-    std::vector<golden::EdgePoint> pts;
-    for (const stream::EdgeRecord& e : golden::find_edges_ref(remap, {edge.mode, edge.threshold})) {
-      pts.push_back({e.x, e.y});
-    }
-    std::vector<uint32_t> want;
-    for (const uint64_t v : golden::hough_ref(shape, hough, pts)) {
-      want.push_back(static_cast<uint32_t>(std::min<uint64_t>(v, shape.acc_max())));
-    }
+    const std::vector<stream::EdgeRecord> pts =
+        golden::find_edges_ref(remap, {edge.mode, edge.threshold});
+    const std::vector<uint32_t> want = golden::hough_cells_ref(shape, hough, pts);
     EXPECT_TRUE(c.valid);
     EXPECT_TRUE(c.consistent);
     EXPECT_EQ(c.frame_count, i + 1);

@@ -449,14 +449,8 @@ TEST(Pipeline, CorridorInAnotherShapeEqualsGoldenAndLeavesTheRestUnchanged) {
     cv::Mat remap;
     cv::Mat mask;
     golden::lut_ref(images[published], cfg.lut, remap, mask);
-    std::vector<golden::EdgePoint> pts;
-    for (const EdgeRecord& e : golden::find_edges_ref(remap, {edge.mode, edge.threshold})) {
-      pts.push_back({e.x, e.y});
-    }
-    std::vector<uint32_t> want;
-    for (const uint64_t c : golden::hough_ref(shape, hough, pts)) {
-      want.push_back(static_cast<uint32_t>(std::min<uint64_t>(c, shape.acc_max())));
-    }
+    const std::vector<EdgeRecord> pts = golden::find_edges_ref(remap, {edge.mode, edge.threshold});
+    const std::vector<uint32_t> want = golden::hough_cells_ref(shape, hough, pts);
     const HoughCounters& hc = with.hough().counters();
     EXPECT_EQ(hc.trailer_flags, 0u) << "frame " << published << ": edges dropped";
     EXPECT_EQ(hc.edges, pts.size()) << "frame " << published;
