@@ -52,8 +52,9 @@ ProfileScenario scenario_of(const ProfileOptions& o) {
     if (o.config == c.name) config = &c;
   }
   if (config == nullptr) {
-    throw std::runtime_error("--config must name a device configuration (tape or full), not '" +
-                             o.config + "'");
+    throw std::runtime_error(
+        "--config must name a device configuration (tape, corridor or full), not '" + o.config +
+        "'");
   }
   s.device_config = *config;
   s.blanking = parse_blanking(o.blanking);

@@ -17,7 +17,7 @@ namespace ceilnav::app {
 
 struct ProfileOptions {
   std::string backend = "model";  // model | rtl
-  std::string config = "full";    // device configuration (regs::kConfigs): tape | full
+  std::string config = "full";    // device configuration (regs::kConfigs): tape | corridor | full
   std::string frames_dir;         // empty: render
   std::string scene_file;         // with frames_dir; default <frames_dir>/scene.yaml
   std::string out_dir;            // empty: summary on stdout only

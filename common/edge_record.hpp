@@ -14,6 +14,14 @@ enum class EdgeKind : uint8_t { kHorizontal = 0, kVertical = 1, kSobel = 2 };
 // EDGE_CONTROL.MODE: which difference the detector uses for a frame.
 enum class EdgeMode : uint8_t { kHorizontal = 0, kVertical = 1, kSobel = 2, kReserved = 3 };
 
+// The edge block's configuration (register EDGE_CONTROL), latched at the SOF pixel.
+struct EdgeConfig {
+  bool enable = false;
+  EdgeMode mode = EdgeMode::kHorizontal;
+  uint16_t threshold = 32;  // 12 bits: an edge point has magnitude > threshold
+
+  friend bool operator==(const EdgeConfig&, const EdgeConfig&) = default;
+};
 struct EdgeRecord {
   uint16_t x = 0;          // column of the right pixel of the pair / the 3x3 window's centre
   uint16_t y = 0;          // row of the lower pixel of the pair / the window's centre

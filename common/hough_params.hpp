@@ -44,6 +44,19 @@ struct HoughConfig {
   uint16_t width = 0;        // rho bias W in pixels (image width; 0 .. 2048)
 };
 
+// Published per-frame counters of the hough block (saturating at 2^32 - 1;
+// registers HOUGH_EDGES .. HOUGH_TRAILER_FLAGS).
+struct HoughCounters {
+  uint32_t edges = 0;          // edge beats voted
+  uint32_t bad_edges = 0;      // edge beats with x or y >= 2048 (not voted)
+  uint32_t votes = 0;          // votes written into cells
+  uint32_t dropped = 0;        // votes whose rho index fell outside [0, rho_bins)
+  uint32_t saturated = 0;      // votes that clipped a cell at acc_max
+  uint32_t trailer_edges = 0;  // trailer word0
+  uint32_t trailer_flags = 0;  // trailer word1
+  bool operator==(const HoughCounters&) const = default;
+};
+
 // The theta range a configuration selects: first index and count.
 struct ThetaRange {
   int first = 0;

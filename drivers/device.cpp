@@ -1,5 +1,6 @@
 #include "drivers/device.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -25,6 +26,33 @@ Device::Device(const DeviceOptions& options) : options_(options), pipeline_(opti
   driver_->identify();
 }
 
+void Device::set_corridor(const stream::EdgeConfig& edge, const stream::HoughConfig& hough) {
+  if (options_.backend == Backend::fast) {
+    if (!pipeline_.has_corridor()) throw std::runtime_error("device: no corridor blocks");
+    pipeline_.set_corridor_config(edge, hough);
+  } else {
+    driver_->configure_corridor(edge, hough);
+  }
+  corridor_on_ = true;
+  edge_cfg_ = edge;
+  hough_cfg_ = hough;
+}
+
+stream::CorridorReadout Device::fast_corridor() const {
+  const stream::Hough& h = pipeline_.hough();
+  stream::CorridorReadout c;
+  c.valid = h.results_valid();
+  c.shape = h.shape();
+  c.edge = edge_cfg_;
+  c.config = hough_cfg_;
+  c.frame_count = fast_hough_frames_;
+  c.cells = h.results();
+  if (!c.valid) std::fill(c.cells.begin(), c.cells.end(), 0u);  // the read port reads 0
+  c.counters = h.counters();
+  c.edge_trailers_lost = pipeline_.edge().trailers_lost();
+  return c;
+}
+
 stream::FrameResults Device::process(const cv::Mat& grey, const stream::PipelineConfig& cfg,
                                      std::vector<stream::RunRecord>& runs, uint64_t& cycles) {
   if (grey.type() != CV_8UC1 || grey.cols != cfg.width || grey.rows != cfg.height) {
@@ -35,11 +63,18 @@ stream::FrameResults Device::process(const cv::Mat& grey, const stream::Pipeline
   cycles = 0;
   if (options_.backend == Backend::fast) {
     pipeline_.set_config(cfg);
-    return pipeline_.process_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], &runs);
+    const stream::FrameResults res =
+        pipeline_.process_frame(grey.ptr<uint8_t>(0), grey.cols, grey.rows, grey.step[0], &runs);
+    if (corridor_on_) {
+      if (edge_cfg_.enable && hough_cfg_.enable) ++fast_hough_frames_;
+      corridor_ = fast_corridor();
+    }
+    return res;
   }
   // Through the registers: configure between frames, stream the frame in,
   // wait for the interrupt, read results and runs.
   driver_->configure(cfg);
+  if (corridor_on_) driver_->configure_corridor(edge_cfg_, hough_cfg_);
   const uint64_t start = bus_->cycles();
   FrameFeed feed;
   feed.gap_probability = options_.gap_probability;
@@ -50,6 +85,12 @@ stream::FrameResults Device::process(const cv::Mat& grey, const stream::Pipeline
     throw std::runtime_error("device: the device lost the frame's run trailer or results");
   }
   runs = std::move(r.runs);
+  if (corridor_on_) {
+    corridor_ = driver_->read_corridor();
+    if (!corridor_.consistent) {
+      throw std::runtime_error("device: the hough block published a frame during the readout");
+    }
+  }
   cycles = bus_->cycles() - start;
   return r.results;
 }

@@ -11,6 +11,9 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/corridor_results.hpp"
+#include "common/edge_record.hpp"
+#include "common/hough_params.hpp"
 #include "drivers/sim_bus.hpp"
 #include "host/driver.hpp"
 #include "host/frame_processor.hpp"
@@ -55,11 +58,28 @@ class Device : public host::FrameProcessor {
 
   const DeviceOptions& options() const { return options_; }
 
+  // The corridor blocks (edge -> hough) for the following frames: after
+  // this, process() also fetches each frame's accumulator (corridor()). The
+  // fast backend runs the pipeline model's fast frame path; the bus backends
+  // program EDGE_CONTROL / HOUGH_* and read the accumulator through the
+  // registers (host::Driver::read_corridor). Throws std::runtime_error on a
+  // device without the corridor blocks.
+  void set_corridor(const stream::EdgeConfig& edge, const stream::HoughConfig& hough);
+  // The last processed frame's corridor readout (valid = false before
+  // set_corridor() or while no frame has been published).
+  const stream::CorridorReadout& corridor() const { return corridor_; }
+
  private:
   DeviceOptions options_;
   stream::Pipeline pipeline_;    // Backend::fast
   std::unique_ptr<SimBus> bus_;  // Backend::model / rtl
   std::unique_ptr<host::Driver> driver_;
+  bool corridor_on_ = false;
+  stream::EdgeConfig edge_cfg_{};
+  stream::HoughConfig hough_cfg_{};
+  stream::CorridorReadout corridor_;
+  uint32_t fast_hough_frames_ = 0;  // Backend::fast: HOUGH_FRAME_COUNT
+  stream::CorridorReadout fast_corridor() const;
 };
 
 // The device of `options` (see Device) behind the host's interface.

@@ -25,11 +25,14 @@ namespace ceilnav::drivers {
 BusFactory rtl_bus_factory() {
   return [](const SimBusOptions& options) -> std::unique_ptr<SimBus> {
     const regs::Config& c = options.device_config;
-    if (c.has_class_moments == regs::kConfigFull.has_class_moments) {
+    const auto is = [&c](const regs::Config& k) {
+      return c.has_class_moments == k.has_class_moments && c.has_corridor == k.has_corridor;
+    };
+    if (is(regs::kConfigFull)) {
       return std::make_unique<SimBus>(
           std::make_unique<OwnedVerilatedDevice<Vceilnav_top>>(options.seed), options);
     }
-    if (c.has_class_moments == regs::kConfigTape.has_class_moments) {
+    if (is(regs::kConfigTape)) {
       return std::make_unique<SimBus>(
           std::make_unique<OwnedVerilatedDevice<Vceilnav_top_tape>>(options.seed), options);
     }

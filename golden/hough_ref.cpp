@@ -1,5 +1,6 @@
 #include "golden/hough_ref.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -56,6 +57,19 @@ std::vector<uint64_t> hough_ref(const stream::HoughShape& shape, const stream::H
     idx = sum >= 0 ? sum / den : -((-sum + den - 1) / den);
     return true;
   });
+}
+
+std::vector<uint32_t> hough_cells_ref(const stream::HoughShape& shape,
+                                      const stream::HoughConfig& cfg,
+                                      const std::vector<stream::EdgeRecord>& edges) {
+  std::vector<EdgePoint> pts;
+  pts.reserve(edges.size());
+  for (const stream::EdgeRecord& e : edges) pts.push_back({e.x, e.y});
+  std::vector<uint32_t> cells;
+  for (const uint64_t c : hough_ref(shape, cfg, pts)) {
+    cells.push_back(static_cast<uint32_t>(std::min<uint64_t>(c, shape.acc_max())));
+  }
+  return cells;
 }
 
 std::vector<uint64_t> hough_ref_double(const stream::HoughShape& shape,

@@ -11,6 +11,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/edge_record.hpp"
 #include "common/hough_params.hpp"
 
 namespace ceilnav::golden {
@@ -25,6 +26,12 @@ struct EdgePoint {
 std::vector<uint64_t> hough_ref(const stream::HoughShape& shape, const stream::HoughConfig& cfg,
                                 const std::vector<EdgePoint>& edges);
 
+// The cells as the hough block holds them for the edge points of an edge
+// detector (golden::find_edges_ref, stream::EdgeDetector): hough_ref on their
+// (x, y), each saturated at shape.acc_max().
+std::vector<uint32_t> hough_cells_ref(const stream::HoughShape& shape,
+                                      const stream::HoughConfig& cfg,
+                                      const std::vector<stream::EdgeRecord>& edges);
 // The same with cos and sin in double precision and the rho index
 // floor((x cos + y sin + W) / 2^rho_shift + 1/2).
 std::vector<uint64_t> hough_ref_double(const stream::HoughShape& shape,

@@ -22,7 +22,9 @@ uint32_t Driver::identify() {
 }
 
 void Driver::configure(const stream::PipelineConfig& cfg) {
-  has_class_moments_ = r::features::kClassMoments.get(bus_.read32(r::features::kOffset)) != 0;
+  const uint32_t features = bus_.read32(r::features::kOffset);
+  has_class_moments_ = r::features::kClassMoments.get(features) != 0;
+  has_corridor_ = r::features::kCorridor.get(features) != 0;
   bus_.write32(r::width::kOffset, r::width::kValue.put(cfg.width));
   bus_.write32(r::height::kOffset, r::height::kValue.put(cfg.height));
   bus_.write32(r::background_level::kOffset, r::background_level::kValue.put(cfg.background_level));
@@ -133,6 +135,72 @@ void Driver::read_runs(FrameReadout& out) {
     out.trailer_run_count = beat.tdata.row;
     return;
   }
+}
+
+void Driver::configure_corridor(const stream::EdgeConfig& edge, const stream::HoughConfig& hough) {
+  if (r::features::kCorridor.get(bus_.read32(r::features::kOffset)) == 0) {
+    throw std::runtime_error("ceilnav driver: the device has no corridor blocks (FEATURES)");
+  }
+  has_corridor_ = true;
+  bus_.write32(r::edge_control::kOffset,
+               r::edge_control::kEnable.put(edge.enable ? 1u : 0u) |
+                   r::edge_control::kMode.put(static_cast<uint32_t>(edge.mode)) |
+                   r::edge_control::kThreshold.put(edge.threshold));
+  bus_.write32(r::hough_control::kOffset,
+               r::hough_control::kEnable.put(hough.enable ? 1u : 0u) |
+                   r::hough_control::kUnitWeight.put(hough.unit_weight ? 1u : 0u) |
+                   r::hough_control::kWeightShift.put(hough.weight_shift) |
+                   r::hough_control::kRhoShift.put(hough.rho_shift) |
+                   r::hough_control::kThetaFirst.put(hough.theta_first) |
+                   r::hough_control::kThetaCount.put(hough.theta_count));
+  bus_.write32(r::hough_geometry::kOffset, r::hough_geometry::kWidth.put(hough.width));
+  edge_cfg_ = edge;
+  hough_cfg_ = hough;
+}
+
+stream::CorridorReadout Driver::read_corridor() {
+  if (!has_corridor_) {
+    throw std::runtime_error("ceilnav driver: the device has no corridor blocks (FEATURES)");
+  }
+  // The frame's trailer is in the edge FIFO once FRAME_DONE was seen: the
+  // hough block has published the frame when nothing is pending.
+  const uint64_t start = bus_.cycles();
+  while (r::status::kHoughPending.get(bus_.read32(r::status::kOffset)) != 0) {
+    if (bus_.cycles() - start > options_.hough_timeout_cycles) {
+      throw std::runtime_error("ceilnav driver: the hough block did not publish the frame");
+    }
+    bus_.idle(64);
+  }
+  bus_.write32(r::intr_state::kOffset, r::intr_state::kHoughDone.mask());
+  stream::CorridorReadout out;
+  out.edge = edge_cfg_;
+  out.config = hough_cfg_;
+  const uint32_t shape = bus_.read32(r::hough_shape::kOffset);
+  out.shape.lanes = static_cast<int>(r::hough_shape::kLanes.get(shape));
+  out.shape.theta_step = static_cast<int>(r::hough_shape::kThetaStep.get(shape));
+  out.shape.rho_bits = static_cast<int>(r::hough_shape::kRhoBits.get(shape));
+  out.shape.acc_bits = static_cast<int>(r::hough_shape::kAccBits.get(shape));
+  out.frame_count = bus_.read32(r::hough_frame_count::kOffset);
+  out.valid = r::hough_status::kResultsValid.get(bus_.read32(r::hough_status::kOffset)) != 0;
+  stream::HoughCounters& c = out.counters;
+  c.edges = bus_.read32(r::hough_edges::kOffset);
+  c.bad_edges = bus_.read32(r::hough_bad_edges::kOffset);
+  c.votes = bus_.read32(r::hough_votes::kOffset);
+  c.dropped = bus_.read32(r::hough_dropped::kOffset);
+  c.saturated = bus_.read32(r::hough_saturated::kOffset);
+  c.trailer_edges = bus_.read32(r::hough_trailer_edges::kOffset);
+  c.trailer_flags = bus_.read32(r::hough_trailer_flags::kOffset);
+  out.edge_trailers_lost = bus_.read32(r::edge_trailers_lost::kOffset);
+  out.hough_stalls = bus_.read32(r::hough_stalls::kOffset);
+  // The cells, j-major: HOUGH_INDEX = j << RHO_BITS | rho counts up by itself.
+  const auto n = static_cast<uint32_t>(out.shape.n_theta()) * out.shape.rho_bins();
+  out.cells.resize(n);
+  bus_.write32(r::hough_index::kOffset, 0);
+  for (uint32_t i = 0; i < n; ++i) {
+    out.cells[i] = r::hough_data::kCount.get(bus_.read32(r::hough_data::kOffset));
+  }
+  out.consistent = bus_.read32(r::hough_frame_count::kOffset) == out.frame_count;
+  return out;
 }
 
 FrameReadout Driver::read_frame() {

@@ -6,6 +6,9 @@
 #include <deque>
 #include <vector>
 
+#include "common/corridor_results.hpp"
+#include "common/edge_record.hpp"
+#include "common/hough_params.hpp"
 #include "common/pipeline_config.hpp"
 #include "common/results.hpp"
 #include "host/bus.hpp"
@@ -20,7 +23,8 @@ enum class RunSink : uint8_t {
 struct DriverOptions {
   RunSink run_sink = RunSink::kStream;
   uint64_t irq_timeout_cycles = 100'000'000;
-  uint64_t run_timeout_cycles = 10'000'000;  // waiting for the frame's trailer
+  uint64_t run_timeout_cycles = 10'000'000;    // waiting for the frame's trailer
+  uint64_t hough_timeout_cycles = 50'000'000;  // waiting for the hough to publish the frame
 };
 
 struct FrameReadout {
@@ -53,6 +57,19 @@ class Driver {
   // FEATURES.CLASS_MOMENTS as read by the last configure(): without class_moments (the tape
   // device) the readout's class_moments stay 0 and their registers are not touched.
   bool has_class_moments() const { return has_class_moments_; }
+  // FEATURES.CORRIDOR as read by the last configure(): the edge and hough blocks.
+  bool has_corridor() const { return has_corridor_; }
+  // Writes EDGE_CONTROL, HOUGH_CONTROL and HOUGH_GEOMETRY (throws
+  // std::runtime_error on a device without the corridor blocks). Like
+  // configure(): between frames; the edge block takes EDGE_CONTROL at the
+  // next SOF, the hough block its configuration with the frame's first edge.
+  void configure_corridor(const stream::EdgeConfig& edge, const stream::HoughConfig& hough);
+  // After read_frame() of a frame the edge block took: waits until the hough
+  // block has published it (STATUS.HOUGH_PENDING = 0), then reads the
+  // accumulator through HOUGH_INDEX / HOUGH_DATA (n_theta x 2^RHO_BITS
+  // reads, HOUGH_SHAPE) with the shape, counters and flags. Throws
+  // std::runtime_error on a timeout or without the corridor blocks.
+  stream::CorridorReadout read_corridor();
 
   // Waits for FRAME_DONE, acknowledges it, reads the result registers and
   // the frame's runs. Throws std::runtime_error on a timeout.
@@ -67,6 +84,9 @@ class Driver {
   DriverOptions options_;
   std::deque<stream::RunBeat> stream_backlog_;  // received beats not yet consumed
   bool has_class_moments_ = true;
+  bool has_corridor_ = false;
+  stream::EdgeConfig edge_cfg_{};
+  stream::HoughConfig hough_cfg_{};
 };
 
 }  // namespace ceilnav::host

@@ -11,7 +11,12 @@
 // (CONTROL.RUN_SINK = 1; docs/registers.md). Parameters as ceilnav_top
 // (the device configuration).
 module ceilnav_board #(
-  parameter bit HasClassMoments = 1'b1,
+  parameter bit          HasClassMoments = 1'b1,
+  parameter bit          HasCorridor     = 1'b1,
+  parameter int unsigned HoughLanes      = 4,
+  parameter int unsigned HoughThetaStep  = 4,
+  parameter int unsigned HoughRhoBits    = 6,
+  parameter int unsigned HoughAccBits    = 16,
   localparam int unsigned AddrBits = ceilnav_reg_pkg::CeilnavAddrWidth
 ) (
   input  logic                clk_i,
@@ -52,7 +57,12 @@ module ceilnav_board #(
   assign unused_runs = ^{unused_runs_tvalid, unused_runs_tlast, unused_runs_tdata};
 
   ceilnav_top #(
-    .HasClassMoments(HasClassMoments)
+    .HasClassMoments(HasClassMoments),
+    .HasCorridor    (HasCorridor),
+    .HoughLanes     (HoughLanes),
+    .HoughThetaStep (HoughThetaStep),
+    .HoughRhoBits   (HoughRhoBits),
+    .HoughAccBits   (HoughAccBits)
   ) u_top (
     .clk_i,
     .rst_ni,

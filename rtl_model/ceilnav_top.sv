@@ -6,11 +6,18 @@
 // docs/blocks/ceilnav_top.md, registers in docs/registers.md.
 //
 // The configuration (docs/registers.md "Configurations", from regmap.json) is
-// a parameter per optional block: HasClassMoments = 0 is the `tape` device,
-// without class_moments; its registers (CLASS_WIN_*, CLASS_MOM_*) then answer
-// SLVERR like unmapped addresses.
+// a parameter per optional block: HasClassMoments = 0 leaves out
+// class_moments (its registers CLASS_WIN_*, CLASS_MOM_* then answer SLVERR
+// like unmapped addresses), HasCorridor = 0 the edge and hough blocks
+// (EDGE_*, HOUGH_*): `tape` has neither, `corridor` only the corridor blocks,
+// `full` both. Hough*: the hough block's compile-time shape (HOUGH_SHAPE).
 module ceilnav_top #(
-  parameter bit HasClassMoments = 1'b1
+  parameter bit          HasClassMoments = 1'b1,
+  parameter bit          HasCorridor     = 1'b1,
+  parameter int unsigned HoughLanes      = 4,
+  parameter int unsigned HoughThetaStep  = 4,
+  parameter int unsigned HoughRhoBits    = 6,
+  parameter int unsigned HoughAccBits    = 16
 ) (
   input  logic                                 clk_i,
   input  logic                                 rst_ni,
@@ -57,6 +64,9 @@ module ceilnav_top #(
 
   localparam int unsigned RunFifoDepth = ceilnav_reg_pkg::RunFifoDepth;
   localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1;
+  localparam int unsigned EdgeFifoDepth = ceilnav_reg_pkg::EdgeFifoDepth;
+  localparam int unsigned EdgeCountBits = $clog2(EdgeFifoDepth) + 1;
+  localparam int unsigned HoughIndexBits = $clog2(180 / HoughThetaStep) + HoughRhoBits;
 
   // ---------------------------------------------------------------------------
   // Register block (generated from rtl_model/regmap.json)
@@ -65,7 +75,8 @@ module ceilnav_top #(
   logic irq_rise;
 
   ceilnav_regblock #(
-    .HasClassMoments(HasClassMoments)
+    .HasClassMoments(HasClassMoments),
+    .HasCorridor    (HasCorridor)
   ) u_regblock (
     .clk_i,
     .rst_ni,
@@ -122,6 +133,14 @@ module ceilnav_top #(
   ceilnav_pkg::word_t       frames_overrun, trailers_lost;
   logic [FifoCountBits-1:0] fifo_occupancy;
   logic                     soft_reset, wr_lut_data, hist_rd_en, run_pop;
+  logic [HoughAccBits-1:0]  hough_rd_data;
+  logic                     hough_done, hough_res_valid, corridor_pending;
+  logic [1:0]               hough_state;
+  ceilnav_pkg::word_t       hough_edges, hough_bad_edges, hough_votes, hough_dropped;
+  ceilnav_pkg::word_t       hough_saturated, hough_trailer_edges, hough_trailer_flags;
+  ceilnav_pkg::word_t       edge_count, edge_dropped, edge_trailers_lost, hough_stalls;
+  logic [EdgeCountBits:0]   edge_fifo_level;
+  ceilnav_pkg::word_t       hough_frame_count_q;
 
   // Synchronous datapath reset: low on the edge that accepts the soft-reset
   // strobe and on the next one (soft_rst_q), so the datapath leaves the same
@@ -134,7 +153,13 @@ module ceilnav_top #(
 
   pipeline #(
     .RunFifoDepth   (RunFifoDepth),
-    .HasClassMoments(HasClassMoments)
+    .HasClassMoments(HasClassMoments),
+    .HasCorridor    (HasCorridor),
+    .EdgeFifoDepth  (EdgeFifoDepth),
+    .HoughLanes     (HoughLanes),
+    .HoughThetaStep (HoughThetaStep),
+    .HoughRhoBits   (HoughRhoBits),
+    .HoughAccBits   (HoughAccBits)
   ) u_pipeline (
     .clk_i,
     .rst_ni                      (dp_rst_n),
@@ -152,6 +177,16 @@ module ceilnav_top #(
     .cfg_class_win_x1_i          (reg2hw.class_win_x.x1),
     .cfg_class_win_y0_i          (reg2hw.class_win_y.y0),
     .cfg_class_win_y1_i          (reg2hw.class_win_y.y1),
+    .cfg_edge_enable_i           (reg2hw.edge_control.enable),
+    .cfg_edge_mode_i             (reg2hw.edge_control.mode),
+    .cfg_edge_threshold_i        (reg2hw.edge_control.threshold),
+    .cfg_hough_enable_i          (reg2hw.hough_control.enable),
+    .cfg_hough_unit_weight_i     (reg2hw.hough_control.unit_weight),
+    .cfg_hough_weight_shift_i    (reg2hw.hough_control.weight_shift),
+    .cfg_hough_rho_shift_i       (reg2hw.hough_control.rho_shift),
+    .cfg_hough_theta_first_i     (reg2hw.hough_control.theta_first),
+    .cfg_hough_theta_count_i     (reg2hw.hough_control.theta_count),
+    .cfg_hough_width_i           (reg2hw.hough_geometry.width),
     .lut_wr_en_i                 (lut_wr_en_q),
     .lut_wr_index_i              (lut_wr_index_q),
     .lut_wr_data_i               (lut_wr_data_q),
@@ -162,6 +197,9 @@ module ceilnav_top #(
     .hist_rd_en_i                (hist_rd_en),
     .hist_rd_bin_i               (reg2hw.hist_index.value),
     .hist_rd_data_o              (hist_rd_data),
+    .hough_rd_en_i               (reg2hw.hough_data.re),
+    .hough_rd_index_i            (reg2hw.hough_index.value[HoughIndexBits-1:0]),
+    .hough_rd_data_o             (hough_rd_data),
     .frame_done_o                (frame_done),
     .res_valid_o                 (res_valid),
     .res_wr_valid_o              (res_wr_valid),
@@ -174,7 +212,23 @@ module ceilnav_top #(
     .errors_o                    (errors),
     .frames_overrun_o            (frames_overrun),
     .run_trailers_lost_o         (trailers_lost),
-    .run_fifo_occupancy_o        (fifo_occupancy)
+    .run_fifo_occupancy_o        (fifo_occupancy),
+    .hough_done_o                (hough_done),
+    .hough_results_valid_o       (hough_res_valid),
+    .hough_state_o               (hough_state),
+    .hough_edges_o               (hough_edges),
+    .hough_bad_edges_o           (hough_bad_edges),
+    .hough_votes_o               (hough_votes),
+    .hough_dropped_o             (hough_dropped),
+    .hough_saturated_o           (hough_saturated),
+    .hough_trailer_edges_o       (hough_trailer_edges),
+    .hough_trailer_flags_o       (hough_trailer_flags),
+    .edge_count_o                (edge_count),
+    .edge_dropped_o              (edge_dropped),
+    .edge_fifo_level_o           (edge_fifo_level),
+    .edge_trailers_lost_o        (edge_trailers_lost),
+    .corridor_pending_o          (corridor_pending),
+    .hough_stalls_o              (hough_stalls)
   );
 
   // ---------------------------------------------------------------------------
@@ -261,9 +315,11 @@ module ceilnav_top #(
     hw2reg.status.run_avail       = pipe_tvalid;
     hw2reg.status.gate_open       = gate_open_q;
     hw2reg.status.lut_pending     = lut_pending_q;
+    hw2reg.status.hough_pending   = corridor_pending;
     hw2reg.intr_state.frame_done   = frame_done;
     hw2reg.intr_state.run_overflow = events_run_overflow;
     hw2reg.intr_state.frame_error  = events_frame_error;
+    hw2reg.intr_state.hough_done   = hough_done;
     hw2reg.error_cause.early_eol   = err_changed[0];
     hw2reg.error_cause.late_eol    = err_changed[1];
     hw2reg.error_cause.early_sof   = err_changed[2];
@@ -273,6 +329,7 @@ module ceilnav_top #(
                                     ceilnav_pkg::RunFieldBits'(pipe_tvalid);
     hw2reg.run_fifo_depth.value   = ceilnav_pkg::RunFieldBits'(RunFifoDepth);
     hw2reg.features.class_moments = HasClassMoments;
+    hw2reg.features.corridor      = HasCorridor;
     // The run window: the head entry of the run FIFO (pack_run_beat layout; the
     // run scanner drives tdata and tlast to 0 without tvalid).
     hw2reg.run_word0.valid        = pipe_tvalid;
@@ -292,6 +349,27 @@ module ceilnav_top #(
     hw2reg.cnt_frames_aborted.value = errors.frames_aborted;
     hw2reg.run_trailers_lost.value  = trailers_lost;
     hw2reg.frames_overrun.value     = frames_overrun;
+    // The corridor blocks (the pipeline drives 0 without them).
+    hw2reg.edge_count.value          = edge_count;
+    hw2reg.edge_dropped.value        = edge_dropped;
+    hw2reg.edge_fifo_level.value     = 16'(edge_fifo_level);
+    hw2reg.edge_trailers_lost.value  = edge_trailers_lost;
+    hw2reg.hough_status.results_valid = hough_res_valid;
+    hw2reg.hough_status.state        = hough_state;
+    hw2reg.hough_data.count          = WordBits'(hough_rd_data);
+    hw2reg.hough_edges.value         = hough_edges;
+    hw2reg.hough_bad_edges.value     = hough_bad_edges;
+    hw2reg.hough_votes.value         = hough_votes;
+    hw2reg.hough_dropped.value       = hough_dropped;
+    hw2reg.hough_saturated.value     = hough_saturated;
+    hw2reg.hough_trailer_edges.value = hough_trailer_edges;
+    hw2reg.hough_trailer_flags.value = hough_trailer_flags;
+    hw2reg.hough_shape.lanes         = HasCorridor ? 8'(HoughLanes) : 8'd0;
+    hw2reg.hough_shape.theta_step    = HasCorridor ? 8'(HoughThetaStep) : 8'd0;
+    hw2reg.hough_shape.rho_bits      = HasCorridor ? 8'(HoughRhoBits) : 8'd0;
+    hw2reg.hough_shape.acc_bits      = HasCorridor ? 8'(HoughAccBits) : 8'd0;
+    hw2reg.hough_frame_count.value   = hough_frame_count_q;
+    hw2reg.hough_stalls.value        = hough_stalls;
     // MOM_*: the result store (below); CLASS_MOM_*[i] (i = 6 (c - 1) + k): the
     // 64-bit moments in two words.
     hw2reg.moments.data  = store_rd_q & {WordBits{store_rd_valid_q}};
@@ -316,6 +394,7 @@ module ceilnav_top #(
       err_lsb_prev_q       <= '0;
       trailers_lost_prev_q <= '0;
       frame_count_q        <= '0;
+      hough_frame_count_q  <= '0;
       eof_age_q            <= '0;
       eof_to_irq_q         <= '0;
     end else begin
@@ -333,6 +412,9 @@ module ceilnav_top #(
       end
       if (frame_done) begin
         frame_count_q <= frame_count_q + WordBits'(1);
+      end
+      if (hough_done) begin
+        hough_frame_count_q <= hough_frame_count_q + WordBits'(1);
       end
       // Edges from the one that accepted the last good EOF pixel (eof_seen is
       // one edge later), or from the last reset.
@@ -362,6 +444,7 @@ module ceilnav_top #(
         err_lsb_prev_q       <= '0;
         trailers_lost_prev_q <= '0;
         frame_count_q        <= '0;
+        hough_frame_count_q  <= '0;
         eof_age_q            <= '0;
         eof_to_irq_q         <= '0;
       end
@@ -373,15 +456,11 @@ module ceilnav_top #(
   assign m_axis_runs_tlast_o   = ~reg2hw.control.run_sink & pipe_tlast;
   assign m_axis_runs_tdata_o   = reg2hw.control.run_sink ? '0 : pipe_tdata;
 
-  // The run words use the SumWBits / SumXwBits low bits of sum_w / sum_xw (pack_run_beat).
-  // EDGE_CONTROL is only stored: the edge block (edge_detect) is not in the top yet.
+  // The run words use the SumWBits / SumXwBits low bits of sum_w / sum_xw
+  // (pack_run_beat); HOUGH_INDEX's bits above the read index are not used.
   logic unused;
   assign unused = ^{pipe_tdata.sum_xw[WordBits-1:ceilnav_pkg::SumXwBits],
-                    pipe_tdata.sum_w[WordBits-1:ceilnav_pkg::SumWBits], reg2hw.edge_control};
-  // The HOUGH_* registers are defined but the hough block is not part of this
-  // device yet (docs/blocks/hough.md): its configuration drives nothing here.
-  logic unused_hough;
-  assign unused_hough = ^{reg2hw.hough_control, reg2hw.hough_geometry, reg2hw.hough_index,
-                          reg2hw.hough_data};
+                    pipe_tdata.sum_w[WordBits-1:ceilnav_pkg::SumWBits],
+                    reg2hw.hough_index.value[19:HoughIndexBits]};
 
 endmodule

@@ -1,5 +1,5 @@
 // pipeline: frame_check -> thresh_lut -> {histogram, moment_gen, class_moments,
-// run_scanner},
+// run_scanner, edge_detect -> hough},
 // the configuration that travels with the SOF, and the double-buffered frame
 // result registers. Cycle-exact twin of stream/pipeline.cpp (Pipeline::clock
 // with the histogram read port); see docs/blocks/pipeline.md, section "RTL".
@@ -18,12 +18,28 @@
 // is published while the new meta is staged).
 // The histogram is read through the histogram block's port; its result bank
 // switches on edge T+1 (Pipeline::kHistSwitchCycles after the video EOF).
+// The corridor blocks (HasCorridor): edge_detect samples thresh_lut's output
+// (the LUT remap) like the stage-3 blocks, with EDGE_CONTROL travelling with
+// the SOF; its m_axis_edges feeds hough's s_axis_edges. The hough publishes
+// a frame when it votes the frame's trailer, on its own schedule (hough_done_o),
+// and is read through its port like the histogram.
 module pipeline #(
   parameter int unsigned RunFifoDepth = 1024,  // run FIFO entries, power of two, >= 8
   // 0: no class_moments and no published copy of its results; res_class_mom_o = 0
   // (C++: Pipeline(depth, /*has_class_moments=*/false)).
   parameter bit          HasClassMoments = 1'b1,
+  // 0: no edge_detect and no hough; their outputs are 0
+  // (C++: Pipeline(depth, has_class_moments, /*has_corridor=*/false)).
+  parameter bit          HasCorridor = 1'b1,
+  parameter int unsigned EdgeFifoDepth = 1024,  // edge FIFO entries, power of two, >= 8
+  // hough's compile-time shape (stream::HoughShape)
+  parameter int unsigned HoughLanes     = 4,
+  parameter int unsigned HoughThetaStep = 4,
+  parameter int unsigned HoughRhoBits   = 6,
+  parameter int unsigned HoughAccBits   = 16,
   localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1,
+  localparam int unsigned EdgeCountBits = $clog2(EdgeFifoDepth) + 1,
+  localparam int unsigned HoughIndexBits = $clog2(180 / HoughThetaStep) + HoughRhoBits,
   // Published class moments: class c, MomentIndex k at [MomentBits*(6*(c-1)+k) +: MomentBits].
   localparam int unsigned ClassMomBits = ceilnav_pkg::MaxClasses * ceilnav_pkg::MomentCount *
                                          ceilnav_pkg::MomentBits
@@ -48,7 +64,17 @@ module pipeline #(
   input  ceilnav_pkg::win_t        cfg_class_win_x1_i,
   input  ceilnav_pkg::win_t        cfg_class_win_y0_i,
   input  ceilnav_pkg::win_t        cfg_class_win_y1_i,
-
+  input  logic                     cfg_edge_enable_i,     // EDGE_CONTROL (shadow)
+  input  logic [1:0]               cfg_edge_mode_i,
+  input  logic [11:0]              cfg_edge_threshold_i,
+  // HOUGH_CONTROL, HOUGH_GEOMETRY: hough samples them with a frame's first edge beat
+  input  logic                     cfg_hough_enable_i,
+  input  logic                     cfg_hough_unit_weight_i,
+  input  logic [3:0]               cfg_hough_weight_shift_i,
+  input  logic [2:0]               cfg_hough_rho_shift_i,
+  input  logic [7:0]               cfg_hough_theta_first_i,
+  input  logic [7:0]               cfg_hough_theta_count_i,
+  input  logic [11:0]              cfg_hough_width_i,
   // LUT write port (shadow bank)
   input  logic                     lut_wr_en_i,
   input  ceilnav_pkg::pixel_t      lut_wr_index_i,
@@ -65,6 +91,10 @@ module pipeline #(
   input  ceilnav_pkg::pixel_t      hist_rd_bin_i,
   output logic [ceilnav_pkg::BinBits-1:0] hist_rd_data_o,
 
+  // hough read port (published bank, one cycle): index = j << HoughRhoBits | rho
+  input  logic                     hough_rd_en_i,
+  input  logic [HoughIndexBits-1:0] hough_rd_index_i,
+  output logic [HoughAccBits-1:0]  hough_rd_data_o,
   // Published results (FrameResults); frame_done_o: one-cycle pulse, high in
   // the first cycle that shows a new set.
   output logic                     frame_done_o,
@@ -88,7 +118,25 @@ module pipeline #(
   output ceilnav_pkg::frame_errors_t errors_o,  // frame_check's counters
   output ceilnav_pkg::word_t       frames_overrun_o,
   output ceilnav_pkg::word_t       run_trailers_lost_o,
-  output logic [FifoCountBits-1:0] run_fifo_occupancy_o
+  output logic [FifoCountBits-1:0] run_fifo_occupancy_o,
+
+  // Corridor (0 without HasCorridor)
+  output logic                     hough_done_o,  // one-cycle pulse: hough published a frame
+  output logic                     hough_results_valid_o,
+  output logic [1:0]               hough_state_o,
+  output ceilnav_pkg::word_t       hough_edges_o,  // the published hough frame's counters
+  output ceilnav_pkg::word_t       hough_bad_edges_o,
+  output ceilnav_pkg::word_t       hough_votes_o,
+  output ceilnav_pkg::word_t       hough_dropped_o,
+  output ceilnav_pkg::word_t       hough_saturated_o,
+  output ceilnav_pkg::word_t       hough_trailer_edges_o,
+  output ceilnav_pkg::word_t       hough_trailer_flags_o,
+  output ceilnav_pkg::word_t       edge_count_o,  // edge_detect's last completed frame
+  output ceilnav_pkg::word_t       edge_dropped_o,
+  output logic [EdgeCountBits:0]   edge_fifo_level_o,  // FIFO memory + output register
+  output ceilnav_pkg::word_t       edge_trailers_lost_o,
+  output logic                     corridor_pending_o,  // STATUS.HOUGH_PENDING
+  output ceilnav_pkg::word_t       hough_stalls_o  // edge beat offered, not taken (saturating)
 );
 
   localparam int unsigned WordBits = ceilnav_pkg::WordBits;
@@ -450,6 +498,135 @@ module pipeline #(
     logic unused_cls;
     assign unused_cls = ^{lut.lut.cls, cfg_lut_q.win_x0, cfg_lut_q.win_x1, cfg_lut_q.win_y0,
                           cfg_lut_q.win_y1};
+  end
+
+  // Corridor (HasCorridor): edge_detect -> hough. EDGE_CONTROL travels with
+  // the SOF like the stage configuration (edge_cfg_fc_q, edge_cfg_lut_q);
+  // edge_detect latches it at the SOF pixel.
+  if (HasCorridor) begin : g_corridor
+    localparam int unsigned EdgeCfgBits = 1 + 2 + 12;
+    logic [EdgeCfgBits-1:0] edge_cfg_shadow, edge_cfg_fc_q, edge_cfg_lut_q;
+    logic                   edge_tvalid, edge_tlast, hough_tready, edge_done;
+    logic [63:0]            edge_tdata;
+    logic [EdgeCountBits-1:0] edge_occupancy;
+    ceilnav_pkg::word_t     stalls_q;
+
+    assign edge_cfg_shadow = {cfg_edge_threshold_i, cfg_edge_mode_i, cfg_edge_enable_i};
+
+    always_ff @(posedge clk_i) begin
+      if (!rst_ni) begin
+        edge_cfg_fc_q  <= '0;
+        edge_cfg_lut_q <= '0;
+        stalls_q       <= '0;
+      end else begin
+        if (video_sof) begin
+          edge_cfg_fc_q <= edge_cfg_shadow;
+        end
+        if (fc.valid && fc.sof) begin
+          edge_cfg_lut_q <= edge_cfg_fc_q;
+        end
+        if (edge_tvalid && !hough_tready && stalls_q != {WordBits{1'b1}}) begin
+          stalls_q <= stalls_q + WordBits'(1);
+        end
+      end
+    end
+
+    edge_detect #(
+      .FifoDepth(EdgeFifoDepth)
+    ) u_edge (
+      .clk_i,
+      .rst_ni,
+      .s_lut_valid_i        (lut.pix.valid),
+      .s_lut_grey_i         (lut.pix.grey),
+      .s_lut_x_i            (lut.pix.x),
+      .s_lut_y_i            (lut.pix.y),
+      .s_lut_sof_i          (lut.pix.sof),
+      .s_lut_eol_i          (lut.pix.eol),
+      .s_lut_eof_i          (lut.pix.eof),
+      .s_lut_abort_i        (lut.pix.abort_frame),
+      .s_lut_remap_i        (lut.lut.remap),
+      .s_lut_mask_i         (lut.lut.mask),
+      .cfg_enable_i         (edge_cfg_lut_q[0]),
+      .cfg_mode_i           (edge_cfg_lut_q[2:1]),
+      .cfg_threshold_i      (edge_cfg_lut_q[14:3]),
+      .m_axis_edges_tvalid_o(edge_tvalid),
+      .m_axis_edges_tready_i(hough_tready),
+      .m_axis_edges_tlast_o (edge_tlast),
+      .m_axis_edges_tdata_o (edge_tdata),
+      .done_o               (edge_done),
+      .edges_emitted_o      (edge_count_o),
+      .edges_dropped_o      (edge_dropped_o),
+      .fifo_occupancy_o     (edge_occupancy),
+      .trailers_lost_o      (edge_trailers_lost_o)
+    );
+
+    hough #(
+      .Lanes    (HoughLanes),
+      .ThetaStep(HoughThetaStep),
+      .RhoBits  (HoughRhoBits),
+      .AccBits  (HoughAccBits)
+    ) u_hough (
+      .clk_i,
+      .rst_ni,
+      .s_axis_edges_tvalid_i(edge_tvalid),
+      .s_axis_edges_tready_o(hough_tready),
+      .s_axis_edges_tdata_i (edge_tdata),
+      .s_axis_edges_tlast_i (edge_tlast),
+      .cfg_enable_i         (cfg_hough_enable_i),
+      .cfg_unit_weight_i    (cfg_hough_unit_weight_i),
+      .cfg_weight_shift_i   (cfg_hough_weight_shift_i),
+      .cfg_rho_shift_i      (cfg_hough_rho_shift_i),
+      .cfg_theta_first_i    (cfg_hough_theta_first_i),
+      .cfg_theta_count_i    (cfg_hough_theta_count_i),
+      .cfg_width_i          (cfg_hough_width_i),
+      .rd_en_i              (hough_rd_en_i),
+      .rd_index_i           (hough_rd_index_i),
+      .rd_data_o            (hough_rd_data_o),
+      .done_o               (hough_done_o),
+      .results_valid_o      (hough_results_valid_o),
+      .state_o              (hough_state_o),
+      .edges_o              (hough_edges_o),
+      .bad_edges_o          (hough_bad_edges_o),
+      .votes_o              (hough_votes_o),
+      .dropped_o            (hough_dropped_o),
+      .saturated_o          (hough_saturated_o),
+      .trailer_edges_o      (hough_trailer_edges_o),
+      .trailer_flags_o      (hough_trailer_flags_o)
+    );
+
+    assign edge_fifo_level_o  = (EdgeCountBits + 1)'(edge_occupancy) +
+                                (EdgeCountBits + 1)'(edge_tvalid);
+    // hough_state_o: 1 vote, 2 swap (ceilnav_pkg-free: hough's encoding)
+    assign corridor_pending_o = edge_tvalid | (edge_occupancy != '0) |
+                                (hough_state_o == 2'd1) | (hough_state_o == 2'd2);
+    assign hough_stalls_o     = stalls_q;
+
+    logic unused_edge;
+    assign unused_edge = edge_done;
+  end else begin : g_no_corridor
+    assign hough_rd_data_o       = '0;
+    assign hough_done_o          = 1'b0;
+    assign hough_results_valid_o = 1'b0;
+    assign hough_state_o         = '0;
+    assign hough_edges_o         = '0;
+    assign hough_bad_edges_o     = '0;
+    assign hough_votes_o         = '0;
+    assign hough_dropped_o       = '0;
+    assign hough_saturated_o     = '0;
+    assign hough_trailer_edges_o = '0;
+    assign hough_trailer_flags_o = '0;
+    assign edge_count_o          = '0;
+    assign edge_dropped_o        = '0;
+    assign edge_fifo_level_o     = '0;
+    assign edge_trailers_lost_o  = '0;
+    assign corridor_pending_o    = 1'b0;
+    assign hough_stalls_o        = '0;
+    logic unused_corridor;
+    assign unused_corridor = ^{cfg_edge_enable_i, cfg_edge_mode_i, cfg_edge_threshold_i,
+                               cfg_hough_enable_i, cfg_hough_unit_weight_i,
+                               cfg_hough_weight_shift_i, cfg_hough_rho_shift_i,
+                               cfg_hough_theta_first_i, cfg_hough_theta_count_i,
+                               cfg_hough_width_i, hough_rd_en_i, hough_rd_index_i};
   end
 
   assign errors_o                     = fc_errors;

@@ -32,6 +32,18 @@ struct PixelBeat {
                        // Downstream discards the partial frame
 };
 
+// m_axis_edges of the edge block = s_axis_edges of the hough block: tdata as
+// pack_edge_beat() / pack_edge_trailer() (common/edge_record.hpp) make it:
+// word0 = x | y << 16, word1 = magnitude | polarity << 12 | kind << 13;
+// the trailer (tlast) word0 = edges, word1 = flags.
+struct EdgeBeat {
+  bool tvalid = false;
+  bool tlast = false;  // the frame's trailer
+  uint64_t tdata = 0;
+
+  friend bool operator==(const EdgeBeat&, const EdgeBeat&) = default;
+};
+
 // After thresh_lut: the pixel beat plus the LUT outputs, one cycle later.
 struct LutBeat {
   PixelBeat pix;      // delayed copy of the pixel beat (grey = camera pixel)

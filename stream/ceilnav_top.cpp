@@ -52,9 +52,11 @@ bool error_counters_differ(const FrameErrorCounters& a, const FrameErrorCounters
 
 }  // namespace
 
-CeilnavTop::CeilnavTop(uint32_t run_fifo_depth, const regs::Config& config)
+CeilnavTop::CeilnavTop(uint32_t run_fifo_depth, const regs::Config& config,
+                       const HoughShape& hough_shape)
     : run_fifo_depth_(run_fifo_depth),
-      pipeline_(run_fifo_depth, config.has_class_moments),
+      pipeline_(run_fifo_depth, config.has_class_moments, config.has_corridor, hough_shape,
+                regs::kEdgeFifoDepth),
       regs_(config) {
   reset();
 }
@@ -78,6 +80,7 @@ void CeilnavTop::reset_datapath() {
   err_prev_q_ = {};
   trailers_lost_prev_q_ = 0;
   frame_count_q_ = 0;
+  hough_frame_count_q_ = 0;
   eof_age_q_ = 0;
   eof_to_irq_q_ = 0;
   push_config();
@@ -102,6 +105,20 @@ void CeilnavTop::push_config() {
   PipelineConfig c = pipeline_config();
   c.lut = lut_bank_[lut_pending_q_ ? lut_active_q_ ^ 1u : lut_active_q_];
   pipeline_.set_config(c);
+  const Reg2Hw& r = regs_.reg2hw();
+  EdgeConfig e;
+  e.enable = r.edge_control.enable != 0;
+  e.mode = static_cast<EdgeMode>(r.edge_control.mode);
+  e.threshold = static_cast<uint16_t>(r.edge_control.threshold);
+  HoughConfig h;
+  h.enable = r.hough_control.enable != 0;
+  h.unit_weight = r.hough_control.unit_weight != 0;
+  h.weight_shift = static_cast<uint8_t>(r.hough_control.weight_shift);
+  h.rho_shift = static_cast<uint8_t>(r.hough_control.rho_shift);
+  h.theta_first = static_cast<uint8_t>(r.hough_control.theta_first);
+  h.theta_count = static_cast<uint8_t>(r.hough_control.theta_count);
+  h.width = static_cast<uint16_t>(r.hough_geometry.width);
+  pipeline_.set_corridor_config(e, h);
 }
 
 void CeilnavTop::fill_read_inputs() {
@@ -109,11 +126,13 @@ void CeilnavTop::fill_read_inputs() {
   const FrameErrorCounters& live = pipeline_.error_counters();
   const RunBeat head = pipeline_.m_axis_runs();
   Hw2Reg& h = hw_;
-  h.status = {in_frame_q_ ? 1u : 0u, res.valid ? 1u : 0u, head.tvalid ? 1u : 0u,
-              gate_open_q_ ? 1u : 0u, lut_pending_q_ ? 1u : 0u};
+  h.status = {in_frame_q_ ? 1u : 0u,    res.valid ? 1u : 0u,
+              head.tvalid ? 1u : 0u,    gate_open_q_ ? 1u : 0u,
+              lut_pending_q_ ? 1u : 0u, pipeline_.corridor_pending() ? 1u : 0u};
   h.run_fifo_level.value = pipeline_.run_fifo_occupancy() + (head.tvalid ? 1u : 0u);
   h.run_fifo_depth.value = run_fifo_depth_;
   h.features.class_moments = regs_.config().has_class_moments;
+  h.features.corridor = regs_.config().has_corridor;
   // The run window: the head entry of the run FIFO, 0 if none.
   const RunRecord run = head.tvalid ? head.tdata : RunRecord{};
   h.run_word0 = {head.tvalid ? 1u : 0u, head.tvalid && head.tlast ? 1u : 0u, run.row};
@@ -130,6 +149,29 @@ void CeilnavTop::fill_read_inputs() {
   h.cnt_frames_aborted.value = live.frames_aborted;
   h.run_trailers_lost.value = pipeline_.run_trailers_lost();
   h.frames_overrun.value = pipeline_.frames_overrun();
+  // The corridor blocks (all 0 without them: the registers answer SLVERR).
+  if (pipeline_.has_corridor()) {
+    const EdgeDetector& edge = pipeline_.edge();
+    const Hough& hough = pipeline_.hough();
+    const HoughCounters& hc = hough.counters();
+    const HoughShape& shape = hough.shape();
+    h.edge_count.value = edge.last_frame_stats().edges_emitted;
+    h.edge_dropped.value = edge.last_frame_stats().edges_dropped;
+    h.edge_fifo_level.value = edge.fifo_occupancy() + (edge.m_axis_edges().tvalid ? 1u : 0u);
+    h.edge_trailers_lost.value = edge.trailers_lost();
+    h.hough_status = {hough.results_valid() ? 1u : 0u, static_cast<uint32_t>(hough.state())};
+    h.hough_edges.value = hc.edges;
+    h.hough_bad_edges.value = hc.bad_edges;
+    h.hough_votes.value = hc.votes;
+    h.hough_dropped.value = hc.dropped;
+    h.hough_saturated.value = hc.saturated;
+    h.hough_trailer_edges.value = hc.trailer_edges;
+    h.hough_trailer_flags.value = hc.trailer_flags;
+    h.hough_shape = {static_cast<uint32_t>(shape.lanes), static_cast<uint32_t>(shape.theta_step),
+                     static_cast<uint32_t>(shape.rho_bits), static_cast<uint32_t>(shape.acc_bits)};
+    h.hough_frame_count.value = hough_frame_count_q_;
+    h.hough_stalls.value = pipeline_.hough_stalls();
+  }
   // CLASS_MOM_*[i] (class c = i / 6 + 1, moment k = i % 6): 64-bit moments in two words.
   for (size_t i = 0; i < kMomentClasses * kMomentCount; ++i) {
     const uint64_t v = res.class_moments.cls[i / kMomentCount][i % kMomentCount];
@@ -157,8 +199,9 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
                       : meta_word(res, r.meta.index);
     store_rd_valid_q_ = res.valid;
   }
-  // The histogram block's read port answers one edge after the read.
+  // The histogram and hough blocks' read ports answer one edge after the read.
   hw_.hist_data.count = pipeline_.hist_rd_data();
+  hw_.hough_data.count = pipeline_.hough_rd_data();
   const bool run_pop = r.run_word3.re && run_sink();
   const bool runs_tready = run_sink() ? run_pop : m_axis_runs_tready;
   const bool soft_reset = r.control.we && r.control.soft_reset != 0;
@@ -181,6 +224,8 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
               pipeline_.run_trailers_lost() != trailers_lost_prev_q_
           ? 1u
           : 0u;
+  const bool hough_done = pipeline_.hough_done();
+  hw_.intr_state.hough_done = hough_done ? 1u : 0u;
   hw_.intr_state.frame_error = 0;
   hw_.error_cause = {};
   bool eof_seen = false;
@@ -210,8 +255,8 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
     pipeline_.reset();
     push_config();
   } else {
-    pipeline_.clock(video_in, runs_tready, r.hist_data.re,
-                    static_cast<uint8_t>(r.hist_index.value));
+    pipeline_.clock(video_in, runs_tready, r.hist_data.re, static_cast<uint8_t>(r.hist_index.value),
+                    r.hough_data.re, r.hough_index.value);
     if (pass && s_axis_video.tuser && lut_pending_q_) {  // thresh_lut's bank swap
       lut_active_q_ ^= 1u;
       lut_pending_q_ = false;
@@ -234,6 +279,7 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
 
   if (regs_.irq_rise()) eof_to_irq_q_ = eof_age_q_;
   if (frame_done) ++frame_count_q_;
+  if (hough_done) ++hough_frame_count_q_;
   // Edges from the one that accepted the last good EOF pixel (eof_seen is one
   // edge later), or from the last reset.
   eof_age_q_ = eof_seen ? 2u : eof_age_q_ + 1u;

@@ -31,12 +31,16 @@ class CeilnavTop {
   static constexpr uint32_t kIntrFrameDone = regs::intr_state::kFrameDone.mask();
   static constexpr uint32_t kIntrRunOverflow = regs::intr_state::kRunOverflow.mask();
   static constexpr uint32_t kIntrFrameError = regs::intr_state::kFrameError.mask();
+  static constexpr uint32_t kIntrHoughDone = regs::intr_state::kHoughDone.mask();
 
   // `config`: the device's build-time configuration (regs::kConfigTape,
   // regs::kConfigFull, ...): the optional blocks it has. A register of an
   // absent block answers SLVERR, as in the RTL built with the same parameters.
+  // hough_shape: the hough block's compile-time shape (the RTL top's
+  // HoughLanes, HoughThetaStep, HoughRhoBits, HoughAccBits; HOUGH_SHAPE).
   explicit CeilnavTop(uint32_t run_fifo_depth = regs::kRunFifoDepth,
-                      const regs::Config& config = regs::kConfigFull);
+                      const regs::Config& config = regs::kConfigFull,
+                      const HoughShape& hough_shape = HoughShape{});
 
   // Synchronous active-low reset (rst_ni) of every register, the register
   // file included. LUT contents (BRAM) are kept; the active bank becomes 0.
@@ -93,6 +97,7 @@ class CeilnavTop {
   // Counters.
   uint32_t cycle_q_ = 0;
   uint32_t frame_count_q_ = 0;
+  uint32_t hough_frame_count_q_ = 0;
   uint32_t eof_age_q_ = 0;  // EOF_TO_IRQ_CYCLES if irq rose on the next edge
   uint32_t eof_to_irq_q_ = 0;
 

@@ -19,23 +19,11 @@ namespace edge_widths {
 using namespace fp::datapath::edge;  // NOLINT(google-build-using-namespace)
 }  // namespace edge_widths
 
-// m_axis_edges: tdata as pack_edge_beat() / pack_edge_trailer() make it.
-struct EdgeBeat {
-  bool tvalid = false;
-  bool tlast = false;  // the frame's trailer
-  uint64_t tdata = 0;
+// m_axis_edges: stream::EdgeBeat (stream/beat.hpp), tdata as pack_edge_beat()
+// / pack_edge_trailer() make it.
 
-  friend bool operator==(const EdgeBeat&, const EdgeBeat&) = default;
-};
-
-// The configuration port (EDGE_CONTROL), latched at the SOF pixel.
-struct EdgeConfig {
-  bool enable = false;
-  EdgeMode mode = EdgeMode::kHorizontal;
-  uint16_t threshold = 32;  // 12 bits: an edge point has magnitude > threshold
-
-  friend bool operator==(const EdgeConfig&, const EdgeConfig&) = default;
-};
+// The configuration port: EdgeConfig (common/edge_record.hpp), latched at
+// the SOF pixel.
 
 // Counters of one frame (published at its EOF pixel).
 struct EdgeStats {

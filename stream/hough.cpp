@@ -207,7 +207,7 @@ void Hough::clock(const EdgeBeat& in, const HoughConfig& cfg, bool rd_en, uint32
       break;
   }
 
-  if (ready && in.valid) {
+  if (ready && in.tvalid) {
     if (!frame_open_q_) {
       cfg_q_ = cfg;
       const ThetaRange r = theta_range(shape_, cfg);
@@ -218,10 +218,10 @@ void Hough::clock(const EdgeBeat& in, const HoughConfig& cfg, bool rd_en, uint32
       frame_open_q_ = true;
     }
     const bool en = frame_en_q_;
-    const auto word0 = static_cast<uint32_t>(in.data);
-    const auto word1 = static_cast<uint32_t>(in.data >> 32);
+    const auto word0 = static_cast<uint32_t>(in.tdata);
+    const auto word1 = static_cast<uint32_t>(in.tdata >> 32);
     next = State::kIdle;
-    if (in.last) {
+    if (in.tlast) {
       frame_open_q_ = false;
       if (en) {
         cnt_.trailer_edges = word0;

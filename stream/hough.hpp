@@ -18,15 +18,11 @@
 
 #include "common/hough_params.hpp"
 #include "fixedpoint/datapath.hpp"
+#include "stream/beat.hpp"
 
 namespace ceilnav::stream {
 
-// One beat of s_axis_edges.
-struct EdgeBeat {
-  bool valid = false;
-  bool last = false;
-  uint64_t data = 0;
-};
+// s_axis_edges: one stream::EdgeBeat (stream/beat.hpp) per cycle.
 
 // Edge beat words (docs/blocks/hough.md): word0 = x | y << 16,
 // word1 = magnitude | polarity << 12 | kind << 13; trailer word0 = edges,
@@ -37,18 +33,6 @@ inline uint64_t edge_word(uint16_t x, uint16_t y, uint32_t word1 = 0) {
 inline uint64_t trailer_word(uint32_t edges, uint32_t flags) {
   return uint64_t{edges} | (uint64_t{flags} << 32);
 }
-
-// Published per-frame counters (saturating at 2^32 - 1).
-struct HoughCounters {
-  uint32_t edges = 0;          // edge beats voted
-  uint32_t bad_edges = 0;      // edge beats with x or y >= 2048 (not voted)
-  uint32_t votes = 0;          // votes written into cells
-  uint32_t dropped = 0;        // votes whose rho index fell outside [0, rho_bins)
-  uint32_t saturated = 0;      // votes that clipped a cell at acc_max
-  uint32_t trailer_edges = 0;  // trailer word0
-  uint32_t trailer_flags = 0;  // trailer word1
-  bool operator==(const HoughCounters&) const = default;
-};
 
 // Weight of an edge at row y (from the top) under cfg.
 uint32_t hough_weight(const HoughConfig& cfg, uint32_t y);

@@ -1,11 +1,19 @@
 #include "stream/pipeline.hpp"
 
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 
 namespace ceilnav::stream {
 
-Pipeline::Pipeline(uint32_t run_fifo_depth, bool has_class_moments)
-    : runs_(run_fifo_depth), has_class_moments_(has_class_moments) {
+Pipeline::Pipeline(uint32_t run_fifo_depth, bool has_class_moments, bool has_corridor,
+                   const HoughShape& hough_shape, uint32_t edge_fifo_depth)
+    : runs_(run_fifo_depth),
+      edge_(edge_fifo_depth),
+      hough_(hough_shape),
+      has_class_moments_(has_class_moments),
+      has_corridor_(has_corridor) {
   set_config(shadow_);
   lut_.commit_at_frame_start();
   build_tables();
@@ -19,6 +27,9 @@ void Pipeline::reset() {
   mom_.reset();
   cls_.reset();
   runs_.reset();
+  edge_.reset();
+  hough_.reset();
+  hough_stalls_q_ = 0;
   cfg_fc_ = stage_config(shadow_);
   cfg_lut_ = cfg_fc_;
   cycle_q_ = 0;
@@ -44,8 +55,15 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready) {
   clock(s_axis_video, m_axis_runs_tready, false, 0);
 }
 
+bool Pipeline::corridor_pending() const {
+  if (!has_corridor_) return false;
+  const Hough::State s = hough_.state();
+  return edge_.m_axis_edges().tvalid || edge_.fifo_occupancy() != 0 || s == Hough::State::kVote ||
+         s == Hough::State::kSwap;
+}
+
 void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, bool hist_rd_en,
-                     uint8_t hist_rd_bin) {
+                     uint8_t hist_rd_bin, bool hough_rd_en, uint32_t hough_rd_index) {
   // Every block samples the pre-edge outputs of the block before it.
   const PixelBeat fc_out = fc_.m_pix();
   const LutBeat lut_out = lut_.m_lut();
@@ -68,7 +86,16 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, boo
   if (has_class_moments_) cls_.clock(lut_out, cfg_lut_.class_window, mom_accept);
   runs_.set_active_config(cfg_lut_.runs);
   runs_.clock(lut_out, m_axis_runs_tready);
-
+  // The corridor blocks: edge -> hough, both sampling the other's pre-edge
+  // outputs (the edge beat, the hough's tready).
+  if (has_corridor_) {
+    const EdgeBeat edge_beat = edge_.m_axis_edges();
+    const bool hough_tready = hough_.tready();
+    if (edge_beat.tvalid && !hough_tready && hough_stalls_q_ != UINT32_MAX) ++hough_stalls_q_;
+    hough_.clock(edge_beat, hough_cfg_, hough_rd_en, hough_rd_index);
+    edge_.set_config(cfg_lut_.edge);
+    edge_.clock(lut_out, hough_tready);
+  }
   // Result registers. moment_gen is the last to finish a frame (kCombineCycles
   // after its EOF pixel); the histogram and run stats of the same frame were
   // staged when they finished, and nothing overwrites them before: a frame
@@ -135,7 +162,7 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
     throw std::invalid_argument("Pipeline::process_frame: image size differs from the config");
   }
   if (fc_.state() == FrameCheck::State::kInFrame || fc_.m_pix().valid || lut_.m_lut().pix.valid ||
-      mom_.combine_busy() || hist_accept_q_ || runs_.fifo_occupancy() != 0) {
+      mom_.combine_busy() || hist_accept_q_ || runs_.fifo_occupancy() != 0 || corridor_pending()) {
     throw std::logic_error("Pipeline::process_frame: the clocked pipeline is not idle");
   }
   // The SOF: shadow -> active.
@@ -149,6 +176,8 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
   const bool hist_remap = cfg_lut_.hist_source_remap;
 
   const auto w = static_cast<uint32_t>(width);
+  const bool edges_on = has_corridor_ && cfg_lut_.edge.enable;
+  if (edges_on) remap_frame_.resize(size_t{w} * static_cast<size_t>(height));
   remap_row_.resize(w);
   mask_row_.resize(w);
   class_row_.resize(w);
@@ -166,6 +195,10 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
       remap_row_[x] = remap_table_[row[x]];
       mask_row_[x] = mask_table_[row[x]];
       class_row_[x] = class_table_[row[x]];
+    }
+    if (edges_on) {
+      std::copy(remap_row_.begin(), remap_row_.end(),
+                remap_frame_.begin() + static_cast<ptrdiff_t>(size_t{w} * static_cast<size_t>(y)));
     }
     const uint8_t* hist_row = hist_remap ? remap_row_.data() : row;
     for (uint32_t x = 0; x < w; ++x) {
@@ -193,6 +226,17 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
   // most 1 entry after any edge before the EOF, where the trailer and
   // possibly a last run are written: the peak is at the EOF edge.
   stats.fifo_high_water = run_at_eof ? 2u : 1u;
+
+  // The corridor: the edge block emits the frame's edge points and its
+  // trailer (no FIFO overflow here), the hough block votes them.
+  if (edges_on) {
+    edge_points_.clear();  // scan_frame appends
+    EdgeDetector::scan_frame(cfg_lut_.edge, remap_frame_.data(), w, static_cast<uint32_t>(height),
+                             edge_points_);
+    edge_words_.clear();
+    for (const EdgeRecord& e : edge_points_) edge_words_.push_back(pack_edge_beat(e));
+    hough_.process_frame(edge_words_, pack_edge_trailer(edge_points_.size(), 0, 0), hough_cfg_);
+  }
 
   fc_.process_frame(shadow_.width, shadow_.height);
   hist_.publish_frame(bins);

@@ -1,6 +1,6 @@
 // The pipeline top: frame_check -> thresh_lut -> {histogram, moment_gen,
-// class_moments, run_scanner}, the shadow/active configuration, the double-buffered frame
-// result registers and the frame_done interrupt source.
+// class_moments, run_scanner, edge -> hough}, the shadow/active configuration, the
+// double-buffered frame result registers and the frame_done interrupt source.
 // See docs/blocks/pipeline.md.
 #pragma once
 
@@ -8,13 +8,16 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/hough_params.hpp"
 #include "common/pipeline_config.hpp"
 #include "common/results.hpp"
 #include "common/run_record.hpp"
 #include "stream/beat.hpp"
 #include "stream/class_moments.hpp"
+#include "stream/edge.hpp"
 #include "stream/frame_check.hpp"
 #include "stream/histogram.hpp"
+#include "stream/hough.hpp"
 #include "stream/moment_gen.hpp"
 #include "stream/run_scanner.hpp"
 #include "stream/thresh_lut.hpp"
@@ -30,10 +33,17 @@ class Pipeline {
   // has_class_moments = false is the RTL's HasClassMoments = 0: no
   // class_moments block, results().class_moments all zero; every other output
   // is the same as with true.
+  // has_corridor = false is the RTL's HasCorridor = 0: no edge and no hough
+  // block (their outputs read idle / 0). hough_shape: the hough block's
+  // compile-time shape (the RTL's HoughLanes, HoughThetaStep, HoughRhoBits,
+  // HoughAccBits); edge_fifo_depth: the edge FIFO (EdgeFifoDepth).
   explicit Pipeline(uint32_t run_fifo_depth = RunScanner::kDefaultFifoDepth,
-                    bool has_class_moments = true);
+                    bool has_class_moments = true, bool has_corridor = true,
+                    const HoughShape& hough_shape = HoughShape{},
+                    uint32_t edge_fifo_depth = EdgeDetector::kDefaultFifoDepth);
 
   bool has_class_moments() const { return has_class_moments_; }
+  bool has_corridor() const { return has_corridor_; }
 
   // Synchronous active-low reset of every register (not of the LUT BRAM nor
   // of the shadow configuration, which the host owns).
@@ -44,12 +54,25 @@ class Pipeline {
   void set_config(const PipelineConfig& cfg);
   const PipelineConfig& shadow_config() const { return shadow_; }
 
+  // Host: the corridor blocks' configuration. `edge` is a shadow like the
+  // PipelineConfig (it travels down the pipeline with the SOF and the edge
+  // block latches it at the SOF pixel); `hough` drives the hough block's
+  // configuration port directly (it samples it with a frame's first edge beat).
+  void set_corridor_config(const EdgeConfig& edge, const HoughConfig& hough) {
+    edge_shadow_ = edge;
+    hough_cfg_ = hough;
+  }
+  const EdgeConfig& edge_shadow_config() const { return edge_shadow_; }
+  const HoughConfig& hough_config() const { return hough_cfg_; }
+
   // One rising clock edge. s_axis_video_tready is always 1.
   void clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready);
   // One rising clock edge with the histogram block's result read port
   // (histogram.sv hist_rd_en_i / hist_rd_bin_i) sampled on it too.
+  // With the hough block's result read port (hough.sv rd_en_i / rd_index_i)
+  // as well (ignored without the corridor blocks).
   void clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, bool hist_rd_en,
-             uint8_t hist_rd_bin);
+             uint8_t hist_rd_bin, bool hough_rd_en = false, uint32_t hough_rd_index = 0);
 
   // Registered outputs.
   RunBeat m_axis_runs() const { return runs_.m_axis_runs(); }
@@ -76,6 +99,22 @@ class Pipeline {
   uint32_t run_trailers_lost() const { return runs_.trailers_lost(); }
   uint32_t run_fifo_occupancy() const { return runs_.fifo_occupancy(); }
 
+  // The corridor blocks (meaningful with has_corridor()): the edge block
+  // taps thresh_lut's output (the LUT remap) like the stage-3 blocks, its
+  // m_axis_edges feeds the hough block's s_axis_edges (tready = the hough's).
+  const EdgeDetector& edge() const { return edge_; }
+  const Hough& hough() const { return hough_; }
+  // The hough block's read port output (0 without a read on the last edge).
+  uint32_t hough_rd_data() const { return has_corridor_ ? hough_.rd_data() : 0u; }
+  // One-cycle pulse: the hough block published a frame (its done).
+  bool hough_done() const { return has_corridor_ && hough_.done(); }
+  // STATUS.HOUGH_PENDING: the edge FIFO or its output register holds
+  // entries, or the hough block votes an edge or publishes.
+  bool corridor_pending() const;
+  // Live, saturating: cycles in which the edge block offered a beat the hough
+  // block did not take (HOUGH_STALLS).
+  uint32_t hough_stalls() const { return hough_stalls_q_; }
+
   // Fast path: one well-formed frame of width x height (must equal the
   // configuration that becomes active), processed as clock() would after the
   // shadow -> active copy of its SOF. Returns the published results (and
@@ -84,7 +123,13 @@ class Pipeline {
   // when the pipeline is idle before the frame (no frame open, FIFO empty,
   // results published) and m_axis_runs_tready = 1 with a FIFO of >= 3
   // entries. Throws std::invalid_argument on a geometry mismatch and
-  // std::logic_error when the pipeline is not idle.
+  // std::logic_error when the pipeline is not idle. With the corridor
+  // blocks, the frame's edge points (EdgeDetector::scan_frame of the remap,
+  // if the edge configuration enables the frame) and its trailer go through
+  // Hough::process_frame: hough() then holds the frame's accumulator and
+  // counters as the clocked path leaves them once the hough block is idle,
+  // if the edge FIFO never fills (edge() keeps its state: EDGE_COUNT /
+  // EDGE_DROPPED of the frame are the trailer's, in hough().counters()).
   FrameResults process_frame(const uint8_t* grey, int width, int height, size_t stride_bytes,
                              std::vector<RunRecord>* runs_out);
 
@@ -94,6 +139,7 @@ class Pipeline {
     RunScanConfig runs;
     bool hist_source_remap = false;
     ClassWindow class_window{};
+    EdgeConfig edge{};
   };
   // What the result registers take from the frame_check side, carried two
   // stages to the point where the frame reaches histogram/moment/run.
@@ -103,8 +149,8 @@ class Pipeline {
     uint64_t cycles_in_frame = 0;
   };
 
-  static StageConfig stage_config(const PipelineConfig& cfg) {
-    return {RunScanConfig::from(cfg), cfg.hist_source_remap, cfg.class_window};
+  StageConfig stage_config(const PipelineConfig& cfg) const {
+    return {RunScanConfig::from(cfg), cfg.hist_source_remap, cfg.class_window, edge_shadow_};
   }
   void build_tables();
 
@@ -116,7 +162,13 @@ class Pipeline {
   MomentGen mom_;
   ClassMoments cls_;
   RunScanner runs_;
+  EdgeDetector edge_;
+  Hough hough_;
   bool has_class_moments_;
+  bool has_corridor_;
+  EdgeConfig edge_shadow_{};                // host-written, EDGE_CONTROL's reset values
+  HoughConfig hough_cfg_{.enable = false};  // HOUGH_CONTROL / HOUGH_GEOMETRY's reset values
+  uint32_t hough_stalls_q_ = 0;
 
   StageConfig cfg_fc_{};   // latched with the SOF beat by frame_check
   StageConfig cfg_lut_{};  // latched when the SOF pixel enters thresh_lut
@@ -141,6 +193,9 @@ class Pipeline {
   std::vector<uint8_t> remap_row_;
   std::vector<uint8_t> mask_row_;
   std::vector<uint8_t> class_row_;
+  std::vector<uint8_t> remap_frame_;
+  std::vector<EdgeRecord> edge_points_;
+  std::vector<uint64_t> edge_words_;
 };
 
 }  // namespace ceilnav::stream

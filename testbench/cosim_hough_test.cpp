@@ -58,9 +58,9 @@ struct HoughPorts {
   uint64_t frames_saturating = 0;  // published frames with clipped cells
 
   void drive(Top& d, const HoughCycle& c) {
-    d.s_axis_edges_tvalid_i = c.in.valid;
-    d.s_axis_edges_tdata_i = c.in.data;
-    d.s_axis_edges_tlast_i = c.in.last;
+    d.s_axis_edges_tvalid_i = c.in.tvalid;
+    d.s_axis_edges_tdata_i = c.in.tdata;
+    d.s_axis_edges_tlast_i = c.in.tlast;
     d.cfg_enable_i = c.cfg.enable;
     d.cfg_unit_weight_i = c.cfg.unit_weight;
     d.cfg_weight_shift_i = c.cfg.weight_shift;
@@ -72,7 +72,7 @@ struct HoughPorts {
     d.rd_index_i = static_cast<std::remove_reference_t<decltype(d.rd_index_i)>>(c.rd_index);
   }
   void before_edge(Cosim<Top>& /*sim*/, const Hough& m, const HoughCycle& c) {
-    transfers += (c.in.valid && m.tready()) ? 1u : 0u;
+    transfers += (c.in.tvalid && m.tready()) ? 1u : 0u;
   }
   void clock(Hough& m, const HoughCycle& c) { m.clock(c.in, c.cfg, c.rd_en, c.rd_index); }
   bool compare(Cosim<Top>& sim, const Hough& m) {
@@ -187,14 +187,14 @@ void append_frame(std::vector<HoughCycle>& out, Rng& rng, const HoughShape& shap
   for (size_t i = 0; i <= f.words.size(); ++i) {
     while (gap_prob > 0.0 && rng.chance(gap_prob)) {
       EdgeBeat idle;
-      idle.data = rng.engine()();
-      idle.last = rng.chance(0.2);
+      idle.tdata = rng.engine()();
+      idle.tlast = rng.chance(0.2);
       cycle(idle, f.cfg);
     }
     EdgeBeat b;
-    b.valid = true;
-    b.last = i == f.words.size();
-    b.data = b.last ? f.trailer : f.words[i];
+    b.tvalid = true;
+    b.tlast = i == f.words.size();
+    b.tdata = b.tlast ? f.trailer : f.words[i];
     cycle(b, f.cfg);
   }
 }
@@ -235,10 +235,10 @@ void run_random(const char* name, uint64_t default_seed, const HoughShape& shape
       // A valid beat is offered until taken (AXI: tvalid and tdata held).
       HoughCycle held = c;
       for (;;) {
-        const bool taken = held.in.valid && bench.model().tready();
+        const bool taken = held.in.tvalid && bench.model().tready();
         bench.step(held);
         held.reset_before = false;
-        if (!held.in.valid || taken || bench.sim().failed()) break;
+        if (!held.in.tvalid || taken || bench.sim().failed()) break;
         held.rd_en = rng.chance(0.5);
         held.rd_index = static_cast<uint32_t>(rng.uniform(0, (1u << shape.index_bits()) - 1));
       }
@@ -325,9 +325,9 @@ TEST(CosimHough, BackToBackFramesFullReadoutRacingVoting) {
     for (size_t i = 0; i <= f.words.size() && !bench.sim().failed();) {
       HoughCycle c;
       c.cfg = f.cfg;
-      c.in.valid = true;
-      c.in.last = i == f.words.size();
-      c.in.data = c.in.last ? f.trailer : f.words[i];
+      c.in.tvalid = true;
+      c.in.tlast = i == f.words.size();
+      c.in.tdata = c.in.tlast ? f.trailer : f.words[i];
       // Read the previous frame while this one votes (until its trailer).
       c.rd_en = !gold_prev.empty() && index < cells;
       c.rd_index = index;

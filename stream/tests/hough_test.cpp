@@ -52,15 +52,15 @@ uint64_t clock_frame(Hough& h, const std::vector<uint64_t>& edges, uint64_t trai
   while (!trailer_sent) {
     EdgeBeat b;
     if (!gap(rng)) {
-      b.valid = true;
-      b.last = i == edges.size();
-      b.data = b.last ? trailer : edges[i];
+      b.tvalid = true;
+      b.tlast = i == edges.size();
+      b.tdata = b.tlast ? trailer : edges[i];
     }
-    const bool taken = b.valid && h.tready();
+    const bool taken = b.tvalid && h.tready();
     h.clock(b, cfg, true, idx(rng));
     ++cycles;
     if (taken) {
-      trailer_sent = b.last;
+      trailer_sent = b.tlast;
       ++i;
     }
   }
@@ -192,9 +192,9 @@ TEST(Hough, ThroughputLatencyAndDoubleBuffer) {
     int t = 0;
     while (sent <= n_edges) {
       EdgeBeat b;
-      b.valid = true;
-      b.last = sent == n_edges;
-      b.data = b.last ? trailer_word(n_edges, 0) : edge_word(static_cast<uint16_t>(sent), 7);
+      b.tvalid = true;
+      b.tlast = sent == n_edges;
+      b.tdata = b.tlast ? trailer_word(n_edges, 0) : edge_word(static_cast<uint16_t>(sent), 7);
       const bool taken = h.tready();
       h.clock(b, cfg);
       if (taken) {
@@ -242,9 +242,9 @@ TEST(Hough, ReadoutOfOneFrameRacesTheNextFramesVoting) {
   int reads = 0;
   while (i <= words_b.size()) {
     EdgeBeat beat;
-    beat.valid = true;
-    beat.last = i == words_b.size();
-    beat.data = beat.last ? trailer_word(60, 0) : words_b[i];
+    beat.tvalid = true;
+    beat.tlast = i == words_b.size();
+    beat.tdata = beat.tlast ? trailer_word(60, 0) : words_b[i];
     const bool taken = h.tready();
     const uint32_t j = index >> shape.rho_bits;
     const uint32_t want = j < static_cast<uint32_t>(shape.n_theta())

@@ -8,8 +8,13 @@
 #include <random>
 #include <vector>
 
+#include "common/edge_record.hpp"
+#include "common/hough_params.hpp"
+#include "golden/edge_ref.hpp"
+#include "golden/hough_ref.hpp"
 #include "golden/pipeline_ref.hpp"
 #include "golden/renderer.hpp"
+#include "golden/thresh_lut_ref.hpp"
 #include "host/auto_threshold.hpp"
 #include "stream/tests/video_source.hpp"
 
@@ -390,6 +395,76 @@ TEST(Pipeline, FrameDoneLatencyAndPulse) {
   }
   Pipeline fresh;
   EXPECT_FALSE(fresh.results().valid);
+}
+
+// The corridor blocks (has_corridor) in a non-default hough shape (8 lanes,
+// 2-degree thetas, 128 rho bins, 12-bit cells): each frame's accumulator, as
+// the clocked pipeline publishes it and as the fast path leaves it, equals
+// golden::hough_ref on golden::find_edges_ref of the remapped frame; a
+// pipeline without the corridor (HasCorridor = 0), clocked in lockstep, has
+// every other output equal and its corridor outputs idle.
+TEST(Pipeline, CorridorInAnotherShapeEqualsGoldenAndLeavesTheRestUnchanged) {
+  std::mt19937 rng(49);
+  const HoughShape shape{8, 2, 7, 12};
+  constexpr int kW = 96;
+  constexpr int kH = 64;
+  const PipelineConfig cfg = random_config(rng, kW, kH);
+  const EdgeConfig edge{true, EdgeMode::kSobel, 250};
+  HoughConfig hough;
+  hough.enable = true;
+  hough.weight_shift = 1;
+  hough.rho_shift = 1;
+  hough.width = kW;
+  Pipeline with(64, true, true, shape);
+  Pipeline without(64, true, false);
+  Pipeline fast(64, true, true, shape);
+  EXPECT_FALSE(without.has_corridor());
+  for (Pipeline* p : {&with, &without, &fast}) {
+    p->set_config(cfg);
+    p->set_corridor_config(edge, hough);
+  }
+  std::vector<cv::Mat> images;
+  std::vector<VideoBeat> beats;
+  for (int f = 0; f < 3; ++f) {
+    images.push_back(test::blob_image(rng, kW, kH));
+    test::append_frame(beats, images.back(), rng, f == 1 ? 0.2 : 0.0);
+    test::append_gaps(beats, 20000);  // the voter drains the edge FIFO
+  }
+  std::bernoulli_distribution tready(0.7);
+  size_t published = 0;
+  for (size_t i = 0; i < beats.size(); ++i) {
+    const bool rdy = tready(rng);
+    with.clock(beats[i], rdy, true, 7, true, static_cast<uint32_t>(i % 8192));
+    without.clock(beats[i], rdy, true, 7, true, static_cast<uint32_t>(i % 8192));
+    ASSERT_EQ(without.frame_done(), with.frame_done()) << i;
+    ASSERT_EQ(without.m_axis_runs(), with.m_axis_runs()) << i;
+    ASSERT_EQ(without.hist_rd_data(), with.hist_rd_data()) << i;
+    ASSERT_EQ(without.results(), with.results()) << i;
+    ASSERT_FALSE(without.hough_done());
+    ASSERT_FALSE(without.corridor_pending());
+    ASSERT_EQ(without.hough_rd_data(), 0u);
+    ASSERT_EQ(without.hough_stalls(), 0u);
+    if (!with.hough_done()) continue;
+    ASSERT_LT(published, images.size());
+    cv::Mat remap;
+    cv::Mat mask;
+    golden::lut_ref(images[published], cfg.lut, remap, mask);
+    const std::vector<EdgeRecord> pts = golden::find_edges_ref(remap, {edge.mode, edge.threshold});
+    const std::vector<uint32_t> want = golden::hough_cells_ref(shape, hough, pts);
+    const HoughCounters& hc = with.hough().counters();
+    EXPECT_EQ(hc.trailer_flags, 0u) << "frame " << published << ": edges dropped";
+    EXPECT_EQ(hc.edges, pts.size()) << "frame " << published;
+    EXPECT_GT(pts.size(), 50u);
+    EXPECT_TRUE(with.hough().results() == want) << "frame " << published;
+    // The fast path on the same frame.
+    const cv::Mat& img = images[published];
+    fast.process_frame(img.ptr<uint8_t>(0), kW, kH, img.step[0], nullptr);
+    EXPECT_TRUE(fast.hough().results() == want) << "fast path, frame " << published;
+    EXPECT_EQ(fast.hough().counters(), hc) << "fast path, frame " << published;
+    ++published;
+  }
+  EXPECT_EQ(published, images.size());
+  EXPECT_GT(with.hough_stalls(), 0u);
 }
 
 // HasClassMoments = 0 (has_class_moments = false): clocked in lockstep with a
