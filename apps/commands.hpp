@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <string>
 
 #include "common/camera_config.hpp"
@@ -136,6 +137,24 @@ struct DriveOptions {
   bool require = false;  // exit 1 unless the goals are met
 };
 int run_drive(const DriveOptions& o);
+
+// `ceilnav corridor`: seed 002's corridor guidance (docs/corridor.md,
+// "ceilnav corridor"): learn a model of the ceiling lines from a driven
+// path, then guide. Built-in: frames rendered in the default corridor (or
+// the scene file's); --frames: recorded frames, the first learn_frames
+// of them the learning drive.
+struct CorridorOptions {
+  std::string out_dir = "ceilnav-corridor";
+  std::string scene_file;   // corridor file (docs/navigation_io.md); empty: built-in
+  std::string camera_file;  // OpenCV camera YAML; empty: 640 x 480, f = 500
+  std::string frames_dir;   // recorded frames (PNG, name order); empty: rendered
+  int learn_frames = 17;
+  std::optional<double> tilt_deg, swing_deg, camera_height_m;  // else the scene's camera
+  int overlays = 4;  // overlay PNGs of the first guided frames
+  bool quiet = false;
+  bool require = false;  // exit 1 unless the goals are met (frames with truth)
+};
+int run_corridor(const CorridorOptions& o);
 
 // `ceilnav calibrate-mount`: the mount calibration drive (sim::calibration_drive)
 // with these true mount errors; calibration.json and frames.csv.

@@ -572,6 +572,44 @@ CLI::App* add_pattern_accuracy_command(CLI::App& app, PatternAccuracyOptions& pa
   return pacc_cmd;
 }
 
+CLI::App* add_corridor_command(CLI::App& app, CorridorOptions& c) {
+  auto* cmd = app.add_subcommand(
+      "corridor",
+      "Seed 002's corridor guidance: learn a model of the ceiling lines from a driven path, "
+      "then guide (pan, delta-phi, lateral shift, wheel turn per frame); frames through the "
+      "device's edge and hough blocks; writes corridor.csv, model.json, summary.json and "
+      "overlay PNGs");
+  cmd->add_option("--out", c.out_dir, "Output folder (written whole or not at all)")
+      ->capture_default_str();
+  cmd->add_option("--scene", c.scene_file,
+                  "Corridor file (docs/navigation_io.md, \"Corridor files\"); default: the "
+                  "built-in corridor")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--camera", c.camera_file, "OpenCV camera YAML; default 640 x 480, f = 500")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--frames", c.frames_dir,
+                  "Recorded frames (PNG, in name order) instead of rendered ones; the first "
+                  "--learn-frames are the learning drive")
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--learn-frames", c.learn_frames, "Frames of the learning drive (--frames)")
+      ->check(CLI::Range(3, 100000))
+      ->capture_default_str();
+  cmd->add_option("--tilt", c.tilt_deg, "Camera tilt, degrees (default: the scene's camera)")
+      ->check(finite_in(-89.0, 89.0));
+  cmd->add_option("--swing", c.swing_deg, "Camera swing, degrees (default: the scene's camera)")
+      ->check(finite_in(-45.0, 45.0));
+  cmd->add_option("--camera-height", c.camera_height_m, "Camera height above the floor, m")
+      ->check(finite_in(0.05, 100.0));
+  cmd->add_option("--overlays", c.overlays, "Overlay PNGs of the first guided frames")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  cmd->add_flag("--quiet", c.quiet, "No progress bar, no summary line");
+  cmd->add_flag("--require", c.require,
+                "Exit 1 unless pan RMS <= 0.3 deg, delta-x RMS <= 2 cm and every guided frame "
+                "is ok (rendered frames)");
+  return cmd;
+}
+
 }  // namespace
 }  // namespace ceilnav::app
 
@@ -592,6 +630,7 @@ int main(int argc, char** argv) {
   DriveOptions drive;
   RenderDriveOptions render_drive;
   CalibrateMountOptions calibrate;
+  CorridorOptions corridor;
   CLI::App* demo_cmd = add_demo_command(app, demo);
   CLI::App* run_cmd = add_run_command(app, run);
   CLI::App* render_cmd = add_render_command(app, render);
@@ -603,6 +642,7 @@ int main(int argc, char** argv) {
   CLI::App* drive_cmd = add_drive_command(app, drive);
   CLI::App* render_drive_cmd = add_render_drive_command(app, render_drive);
   CLI::App* calibrate_cmd = add_calibrate_mount_command(app, calibrate);
+  CLI::App* corridor_cmd = add_corridor_command(app, corridor);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -617,6 +657,7 @@ int main(int argc, char** argv) {
     if (*drive_cmd) return run_drive(drive);
     if (*render_drive_cmd) return run_render_drive(render_drive);
     if (*calibrate_cmd) return run_calibrate_mount(calibrate);
+    if (*corridor_cmd) return run_corridor(corridor);
   } catch (const ceilnav::host::ConfigError& e) {
     std::cerr << "ceilnav: scene error: " << e.what() << '\n';
     return 1;

@@ -32,7 +32,7 @@ expect_error() {
   ok "$name"
 }
 
-for cmd in "" demo run render accuracy exposure profile pattern pattern-accuracy drive render-drive calibrate-mount; do
+for cmd in "" demo run render accuracy exposure profile pattern pattern-accuracy drive render-drive calibrate-mount corridor; do
   if $CEILNAV $cmd --help >"$work/help.txt" 2>&1 && grep -q -- "--" "$work/help.txt"; then
     ok "help ${cmd:-top}"
   else
@@ -683,6 +683,28 @@ expect_error "calibrate-mount zero runs" "--monte-carlo" "$work/cal/bad2" -- cal
 expect_error "calibrate-mount bad backend" "--backend" "$work/cal/bad3" -- calibrate-mount --out "$work/cal/bad3" --backend gpu
 expect_error "calibrate-mount short run" "--run-length" "$work/cal/bad4" -- calibrate-mount --out "$work/cal/bad4" --run-length 0.5
 expect_error "calibrate-mount heading too large" "--heading" "$work/cal/bad5" -- calibrate-mount --out "$work/cal/bad5" --heading 20
+
+# corridor: the built-in learning drive and guided drives through the edge
+# and hough blocks: every output, a model, the pan goal (RMS <= 0.3 deg;
+# the lateral shift's goal is not met yet, docs/corridor.md); a frame folder with
+# fewer frames than the learning drive needs, a missing or bad scene file
+# and a bad angle are refused with a message and no output.
+cor=$work/corridor
+if $CEILNAV corridor --out "$cor" --quiet >/dev/null 2>"$work/corridor.err" &&
+  [ -s "$cor/corridor.csv" ] && [ -s "$cor/model.json" ] && [ -s "$cor/summary.json" ] &&
+  ls "$cor"/overlay_*.png >/dev/null 2>&1 && grep -q '"pan_rms_le_0.3deg": true' "$cor/summary.json" &&
+  ! grep -q '"model_lines": 0' "$cor/summary.json"; then
+  ok "corridor"
+else
+  bad "corridor" "$(cat "$work/corridor.err" "$cor/summary.json" 2>/dev/null | tail -5)"
+fi
+mkdir -p "$work/cor_frames"
+cp "$cor"/overlay_*.png "$work/cor_frames/" 2>/dev/null
+expect_error "corridor too few frames" "learn-frames" "$work/corridor_bad1" -- corridor --out "$work/corridor_bad1" --frames "$work/cor_frames" --learn-frames 17
+expect_error "corridor missing scene" "scene" "$work/corridor_bad2" -- corridor --out "$work/corridor_bad2" --scene "$work/nope.yaml"
+expect_error "corridor bad tilt" "--tilt" "$work/corridor_bad3" -- corridor --out "$work/corridor_bad3" --tilt nan
+printf 'format: ceilnav_corridor\nversion: 1\nbogus_key: 1\n' >"$work/bad_corridor.yaml"
+expect_error "corridor bad scene" "bogus_key" "$work/corridor_bad4" -- corridor --out "$work/corridor_bad4" --scene "$work/bad_corridor.yaml"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

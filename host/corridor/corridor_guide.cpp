@@ -1,0 +1,71 @@
+#include "host/corridor/corridor_guide.hpp"
+
+#include <algorithm>
+
+namespace ceilnav::host::corridor {
+
+const char* to_string(GuideStatus s) {
+  switch (s) {
+    case GuideStatus::ok:
+      return "ok";
+    case GuideStatus::pan_only:
+      return "pan_only";
+    case GuideStatus::not_found:
+      return "not_found";
+  }
+  return "?";
+}
+
+CorridorGuide::CorridorGuide(const CameraConfig& camera, const GuideParams& params,
+                             const CorridorModel* model)
+    : camera_(camera),
+      model_camera_(camera),
+      params_(params),
+      model_(model),
+      predicted_pan_rad_(params.initial_pan_rad),
+      last_shift_m_(params.initial_shift_m) {}
+
+GuideFrame CorridorGuide::process(const Accumulator& acc) {
+  GuideFrame f;
+  f.raw_lines = extract_lines(acc, params_.lines);
+  for (const HoughLine& h : f.raw_lines) {
+    ImageLine u;
+    if (undistort_line(h.line, model_camera_, camera_.image_width, camera_.image_height, u)) {
+      f.lines.push_back(u);
+    }
+  }
+  f.pan = estimate_pan(f.lines, camera_, params_.mount, predicted_pan_rad_, params_.vanishing);
+  if (f.pan.status == PanStatus::not_found) {
+    // Lost: the next frame searches around the path's own pan again (the
+    // window around a stale prediction could miss the corridor for good).
+    predicted_pan_rad_ = params_.initial_pan_rad;
+    return f;
+  }
+  predicted_pan_rad_ = f.pan.pan_rad;
+  f.delta_phi_rad = f.pan.heading_rad;
+  f.status = GuideStatus::pan_only;
+  if (model_ == nullptr) return f;
+  ShiftOptions so = params_.shift;
+  if (last_shift_m_) so.prior_m = *last_shift_m_;
+  // The shift uses the lines through the axis vanishing point only (the
+  // model's lines are along the axis).
+  std::vector<ImageLine> axis_lines;
+  for (int i : f.pan.axis.inliers) axis_lines.push_back(f.lines[static_cast<size_t>(i)]);
+  f.shift = lateral_shift(axis_lines, f.pan.pan_rad, *model_, so);
+  if (!f.shift.valid) return f;
+  last_shift_m_ = f.shift.shift_m;
+  f.turn_rad = wheel_turn(f.delta_phi_rad, f.shift.shift_m, params_.turn);
+  f.status = GuideStatus::ok;
+  return f;
+}
+
+uint8_t CorridorGuide::next_weight_shift(const Accumulator& acc, uint32_t saturated_votes) {
+  const uint8_t ws = acc.config.weight_shift;
+  if (saturated_votes > 0) return static_cast<uint8_t>(std::min(15, ws + 1));
+  const uint64_t max =
+      acc.cells.empty() ? 0 : *std::max_element(acc.cells.begin(), acc.cells.end());
+  if (ws > 0 && 4 * max <= acc.shape.acc_max()) return static_cast<uint8_t>(ws - 1);
+  return ws;
+}
+
+}  // namespace ceilnav::host::corridor

@@ -1,0 +1,71 @@
+// Seed 002's guidance, frame by frame, from the Hough accumulator the device
+// publishes: the lines (steps 3-8 of the matching stage, hough_lines.hpp),
+// the pan (eq. 10-16, vanishing.hpp), the lateral shift against a learnt
+// model (eq. 21-25, lateral_shift.hpp) and the wheel turn (eq. 26-28,
+// turn_law.hpp), with what a frame carries to the next: the predicted pan,
+// the previous shift as the matching's prior, and the Hough weight shift
+// the host programs for the next frame. docs/corridor.md, "Guidance".
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "host/camera_model.hpp"
+#include "host/corridor/corridor_model.hpp"
+#include "host/corridor/hough_lines.hpp"
+#include "host/corridor/lateral_shift.hpp"
+#include "host/corridor/turn_law.hpp"
+#include "host/corridor/vanishing.hpp"
+
+namespace ceilnav::host::corridor {
+
+struct GuideParams {
+  LineExtractionParams lines;
+  VanishingParams vanishing;
+  ShiftOptions shift;
+  TurnLaw turn = design_turn_law();
+  CameraMount mount;             // tilt, swing, pan on the vehicle (calibration)
+  double initial_pan_rad = 0.0;  // the first frame's prediction, and after a frame without one
+  // The first frame's prior on the lateral shift (the matching's, lateral_shift.hpp):
+  // a guided drive starts where the learnt path does (0); nullopt: none.
+  std::optional<double> initial_shift_m = 0.0;
+};
+
+enum class GuideStatus {
+  ok,         // pan and lateral shift
+  pan_only,   // a pan, no shift (no model, or no line matched)
+  not_found,  // no corridor: no pan
+};
+const char* to_string(GuideStatus s);
+
+struct GuideFrame {
+  GuideStatus status = GuideStatus::not_found;
+  std::vector<HoughLine> raw_lines;  // on the voted (distorted) image
+  std::vector<ImageLine> lines;      // undistorted (the raw lines that undistort)
+  PanEstimate pan;
+  double delta_phi_rad = 0.0;  // eq. 16: the vehicle's heading to the corridor
+  LateralShift shift;          // valid when status ok
+  double turn_rad = 0.0;       // eq. 26 (0 unless ok)
+};
+
+class CorridorGuide {
+ public:
+  // model: nullptr for the learning drive (pan only).
+  CorridorGuide(const CameraConfig& camera, const GuideParams& params,
+                const CorridorModel* model = nullptr);
+  GuideFrame process(const Accumulator& acc);
+  // The Hough weight shift for the next frame: raised while cells saturate,
+  // lowered when the largest cell would still fit at the lower shift with a
+  // factor 2 to spare (votes weigh (y + 1) >> shift, eq. 18).
+  static uint8_t next_weight_shift(const Accumulator& acc, uint32_t saturated_votes);
+
+ private:
+  CameraConfig camera_;
+  CameraModel model_camera_;
+  GuideParams params_;
+  const CorridorModel* model_;
+  double predicted_pan_rad_;
+  std::optional<double> last_shift_m_;
+};
+
+}  // namespace ceilnav::host::corridor
