@@ -27,6 +27,18 @@ size_t padded(uint32_t width) {
   return (size_t{width} + 7u) / 8u * 8u;
 }
 
+// d = cur[i] - prev[i] for i < n: |d|, d > 0 and |d| > t, no branch.
+void difference_row(const uint8_t* cur, const uint8_t* prev, int n, int16_t t, int16_t* mag,
+                    uint8_t* rises, uint8_t* hit) {
+  for (int i = 0; i < n; ++i) {
+    const auto d = static_cast<int16_t>(cur[i] - prev[i]);
+    const auto m = static_cast<int16_t>(d < 0 ? -d : d);
+    mag[i] = m;
+    rises[i] = d > 0;
+    hit[i] = m > t;
+  }
+}
+
 }  // namespace
 
 EdgeHoughFast::EdgeHoughFast(const HoughShape& shape) : shape_(shape) {
@@ -102,26 +114,12 @@ std::span<const EdgeRecord> EdgeHoughFast::find_edges(const EdgeConfig& cfg, con
       case EdgeMode::kHorizontal:
         // |p(x,y) - p(x-1,y)|, x >= 1
         hit[0] = 0;
-        for (int x = 1; x < w; ++x) {
-          const auto d = static_cast<int16_t>(r[x] - r[x - 1]);
-          const auto m = static_cast<int16_t>(d < 0 ? -d : d);
-          mag[x] = m;
-          rises[x] = d > 0;
-          hit[x] = m > t;
-        }
+        difference_row(r + 1, r, w - 1, t, mag + 1, rises + 1, hit + 1);
         break;
-      case EdgeMode::kVertical: {
+      case EdgeMode::kVertical:
         // |p(x,y) - p(x,y-1)|, y >= 1
-        const uint8_t* up = r - stride;
-        for (int x = 0; x < w; ++x) {
-          const auto d = static_cast<int16_t>(r[x] - up[x]);
-          const auto m = static_cast<int16_t>(d < 0 ? -d : d);
-          mag[x] = m;
-          rises[x] = d > 0;
-          hit[x] = m > t;
-        }
+        difference_row(r, r - stride, w, t, mag, rises, hit);
         break;
-      }
       case EdgeMode::kSobel: {
         // Centre row y: rows a = y-1, b = y, c = y+1. Per column the 1 2 1
         // sum v = a + 2b + c (for gx) and the difference e = c - a (for gy);
