@@ -22,6 +22,9 @@ constexpr uint32_t kMaxSide = fp::datapath::kMaxWidth;  // 2048
 constexpr int kFrac = fp::hough::kTrigFrac;
 // Interleaved copies of the rho row a theta votes into (edge i -> copy i % 4).
 constexpr size_t kCopies = 4;
+// Edges per block of the voter: 1024 x (8 + 8 + 4) bytes of coordinates,
+// weights and indices, within L1.
+constexpr size_t kBlock = 1024;
 
 size_t padded(uint32_t width) {
   return (size_t{width} + 7u) / 8u * 8u;
@@ -47,7 +50,9 @@ EdgeHoughFast::EdgeHoughFast(const HoughShape& shape) : shape_(shape) {
     throw std::invalid_argument("EdgeHoughFast: bad shape");
   }
   acc_.assign(static_cast<size_t>(shape_.n_theta()) * shape_.rho_bins(), 0u);
-  rows_.assign(kCopies * (shape_.rho_bins() + 1u), 0u);
+  rows_.assign(static_cast<size_t>(shape_.n_theta()) * kCopies * (shape_.rho_bins() + 1u), 0u);
+  idx_.resize(kBlock);
+  w_.resize(kBlock);
 }
 
 void EdgeHoughFast::reserve(uint32_t width, uint32_t height) {
@@ -56,8 +61,6 @@ void EdgeHoughFast::reserve(uint32_t width, uint32_t height) {
     records_.resize(pixels);
     xs_.resize(pixels);
     ys_.resize(pixels);
-    idx_.resize(pixels + kCopies);
-    w_.resize(pixels + kCopies);
   }
   const size_t row = padded(width);
   if (hit_.size() < row) {
@@ -184,52 +187,64 @@ std::span<const uint64_t> EdgeHoughFast::vote(const HoughConfig& cfg) {
   const ThetaRange range = theta_range(shape_, cfg);
   const auto& table = fp::hough::trig_table();
 
-  // eq. 18 weights, once per frame: w = (y + 1) >> weight_shift, or 1.
-  uint64_t* w = w_.data();
-  const int32_t* xs = xs_.data();
-  const int32_t* ys = ys_.data();
-  for (size_t i = 0; i < n; ++i) {
-    w[i] = cfg.unit_weight ? 1u : static_cast<uint64_t>((ys[i] + 1) >> cfg.weight_shift);
-  }
   // rho index = (x C + y S + (W << 14) + 2^(13 + rho_shift)) >> (14 + rho_shift),
   // floor (arithmetic shift); |sum| < 2^28 fits int32. A negative index or
   // one >= bins goes to the spare cell `bins` of the row copies.
   const int32_t bias = (int32_t{cfg.width} << kFrac) + (int32_t{1} << (kFrac - 1 + cfg.rho_shift));
   const int shift = kFrac + cfg.rho_shift;
-  uint32_t* idx = idx_.data();
   const size_t row_len = bins + 1u;
-  std::vector<uint64_t>& rows = rows_;
-
+  const size_t theta_len = kCopies * row_len;  // the copies of one theta's row
+  std::fill_n(rows_.begin(), static_cast<size_t>(range.count) * theta_len, 0u);
+  uint64_t* w = w_.data();
+  uint32_t* idx = idx_.data();
+  uint64_t landed = 0;
+  // Blocks of kBlock edges: their coordinates, weights and indices stay in
+  // L1 while every theta of the range votes them.
+  for (size_t b0 = 0; b0 < n; b0 += kBlock) {
+    const size_t nb = std::min(kBlock, n - b0);
+    const int32_t* xs = xs_.data() + b0;
+    const int32_t* ys = ys_.data() + b0;
+    // eq. 18 weights: w = (y + 1) >> weight_shift, or 1.
+    for (size_t i = 0; i < nb; ++i) {
+      w[i] = cfg.unit_weight ? 1u : static_cast<uint64_t>((ys[i] + 1) >> cfg.weight_shift);
+    }
+    for (int j = 0; j < range.count; ++j) {
+      const auto k = static_cast<size_t>((range.first + j) * shape_.theta_step);
+      const int32_t c = table.cos[k];
+      const int32_t s = table.sin[k];
+      uint32_t in_block = 0;
+      for (size_t i = 0; i < nb; ++i) {
+        const int32_t sum = xs[i] * c + ys[i] * s + bias;
+        const auto r = static_cast<uint32_t>(sum >> shift);  // negative -> >= 2^31
+        const uint32_t in = r < bins ? 1u : 0u;
+        in_block += in;
+        idx[i] = in != 0 ? r : bins;
+      }
+      landed += in_block;
+      uint64_t* r0 = rows_.data() + static_cast<size_t>(j) * theta_len;
+      uint64_t* r1 = r0 + row_len;
+      uint64_t* r2 = r1 + row_len;
+      uint64_t* r3 = r2 + row_len;
+      size_t i = 0;
+      for (; i + kCopies <= nb; i += kCopies) {
+        r0[idx[i]] += w[i];
+        r1[idx[i + 1]] += w[i + 1];
+        r2[idx[i + 2]] += w[i + 2];
+        r3[idx[i + 3]] += w[i + 3];
+      }
+      for (; i < nb; ++i) r0[idx[i]] += w[i];
+    }
+  }
   for (int j = 0; j < range.count; ++j) {
-    const auto k = static_cast<size_t>((range.first + j) * shape_.theta_step);
-    const int32_t c = table.cos[k];
-    const int32_t s = table.sin[k];
-    uint64_t landed = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const int32_t sum = xs[i] * c + ys[i] * s + bias;
-      const auto r = static_cast<uint32_t>(sum >> shift);  // negative -> >= 2^31
-      const uint32_t in = r < bins ? 1u : 0u;
-      landed += in;
-      idx[i] = in != 0 ? r : bins;
-    }
-    std::fill(rows.begin(), rows.end(), 0u);
-    uint64_t* r0 = rows.data();
-    uint64_t* r1 = r0 + row_len;
-    uint64_t* r2 = r1 + row_len;
-    uint64_t* r3 = r2 + row_len;
-    size_t i = 0;
-    for (; i + kCopies <= n; i += kCopies) {
-      r0[idx[i]] += w[i];
-      r1[idx[i + 1]] += w[i + 1];
-      r2[idx[i + 2]] += w[i + 2];
-      r3[idx[i + 3]] += w[i + 3];
-    }
-    for (; i < n; ++i) r0[idx[i]] += w[i];
+    const uint64_t* r0 = rows_.data() + static_cast<size_t>(j) * theta_len;
+    const uint64_t* r1 = r0 + row_len;
+    const uint64_t* r2 = r1 + row_len;
+    const uint64_t* r3 = r2 + row_len;
     uint64_t* out = acc_.data() + static_cast<size_t>(j) * bins;
     for (uint32_t b = 0; b < bins; ++b) out[b] = r0[b] + r1[b] + r2[b] + r3[b];
-    votes_ += landed;
-    dropped_ += n - landed;
   }
+  votes_ = landed;
+  dropped_ = n * static_cast<uint64_t>(range.count) - landed;
   return accumulator();
 }
 

@@ -74,10 +74,11 @@ class EdgeHoughFast {
   std::vector<uint8_t> hit_;
   std::vector<int16_t> tmp_;  // Sobel: the smoothed column sums of a row
   std::vector<int16_t> tmp2_;
-  // Voter scratch: the rho index of each edge for one theta, weights.
+  // Voter scratch: one block of edges' rho indices (one theta) and weights.
   std::vector<uint32_t> idx_;
   std::vector<uint64_t> w_;
-  std::vector<uint64_t> rows_;  // the copies of one theta's rho row, each bins + 1 cells
+  // Per theta of the range, kCopies copies of its rho row, each bins + 1 cells.
+  std::vector<uint64_t> rows_;
   std::vector<uint64_t> acc_;
   uint64_t votes_ = 0;
   uint64_t dropped_ = 0;
