@@ -46,20 +46,6 @@ stream::HoughShape corridor_shape() {
   return s;
 }
 
-// The eq. 17 threshold the host programs from the frame: 4 x the median
-// |p(x) - p(x-1)| (the noise's scale: most neighbours see no edge), at
-// least 4 grey levels.
-uint16_t edge_threshold(const cv::Mat& grey) {
-  std::vector<int> d;
-  d.reserve(static_cast<size_t>(grey.rows) * static_cast<size_t>(grey.cols));
-  for (int y = 0; y < grey.rows; ++y) {
-    const auto* row = grey.ptr<uint8_t>(y);
-    for (int x = 1; x < grey.cols; ++x) d.push_back(std::abs(row[x] - row[x - 1]));
-  }
-  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
-  return static_cast<uint16_t>(std::max(4, 4 * d[d.size() / 2]));
-}
-
 // The device's edge and hough blocks on one frame (their fast paths), as the
 // host reads the published accumulator; `saturated`: HOUGH's count.
 struct DeviceFrame {
@@ -71,7 +57,7 @@ DeviceFrame device_frame(const cv::Mat& grey, const stream::HoughShape& shape,
   stream::EdgeConfig ec;
   ec.enable = true;
   ec.mode = stream::EdgeMode::kHorizontal;
-  ec.threshold = edge_threshold(grey);
+  ec.threshold = hc::edge_threshold(grey);
   std::vector<stream::EdgeRecord> edges;
   const cv::Mat g = grey.isContinuous() ? grey : grey.clone();
   stream::EdgeDetector::scan_frame(ec, g.ptr<uint8_t>(0), static_cast<uint32_t>(g.cols),

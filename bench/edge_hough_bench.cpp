@@ -31,7 +31,6 @@
 
 #include <opencv2/core.hpp>
 
-#include "bench/hough_model.hpp"
 #include "golden/corridor/corridor.hpp"
 #include "golden/corridor/render.hpp"
 #include "golden/default_scene.hpp"
@@ -39,6 +38,7 @@
 #include "golden/hough_ref.hpp"
 #include "stream/edge.hpp"
 #include "stream/edge_hough_fast.hpp"
+#include "stream/hough.hpp"
 
 namespace {
 
@@ -193,16 +193,16 @@ void BM_HoughVoteFast(benchmark::State& state) {
 // voter (one Hough object: process_frame leaves it idle for the next frame).
 void BM_EdgeHoughCycleModels(benchmark::State& state) {
   const Case c = case_of(state);
-  bench::HoughModel hough;
+  stream::Hough hough;
   std::vector<stream::EdgeRecord> edges;
   std::vector<uint64_t> beats;
   for (auto _ : state) {
     scan(c, edges);
     beats_of(edges, beats);
     hough.process_frame(beats, trailer_of(edges), c.hc);
-    benchmark::DoNotOptimize(hough.votes());
+    benchmark::DoNotOptimize(hough.counters().votes);
   }
-  set_counters(state, c, edges.size(), hough.votes());
+  set_counters(state, c, edges.size(), hough.counters().votes);
 }
 
 void BM_EdgeScanFrame(benchmark::State& state) {
@@ -221,12 +221,12 @@ void BM_HoughProcessFrame(benchmark::State& state) {
   std::vector<uint64_t> beats;
   scan(c, edges);
   beats_of(edges, beats);
-  bench::HoughModel hough;
+  stream::Hough hough;
   for (auto _ : state) {
     hough.process_frame(beats, trailer_of(edges), c.hc);
-    benchmark::DoNotOptimize(hough.votes());
+    benchmark::DoNotOptimize(hough.counters().votes);
   }
-  set_counters(state, c, edges.size(), hough.votes());
+  set_counters(state, c, edges.size(), hough.counters().votes);
 }
 
 void BM_EdgeHoughGolden(benchmark::State& state) {
@@ -283,7 +283,7 @@ bool fast_matches_golden() {
                    static_cast<long long>(per_mille));
       ok = false;
     }
-    bench::HoughModel hough(shape);
+    stream::Hough hough(shape);
     hough.process_frame(beats, trailer_of(scanned), c.hc);
     const std::vector<uint32_t> model = hough.results();
     bool model_ok = model.size() == cells.size();
@@ -291,7 +291,7 @@ bool fast_matches_golden() {
       model_ok = model[i] == std::min<uint64_t>(cells[i], shape.acc_max());
     }
     if (!std::equal(acc.begin(), acc.end(), cells.begin(), cells.end()) || !model_ok ||
-        hough.votes() != fast.votes() || hough.dropped() != fast.dropped()) {
+        hough.counters().votes != fast.votes() || hough.counters().dropped != fast.dropped()) {
       std::fprintf(stderr, "pose %d, density %lld: accumulators or vote counts differ\n", p,
                    static_cast<long long>(per_mille));
       ok = false;

@@ -1,6 +1,7 @@
 #include "host/corridor/corridor_guide.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace ceilnav::host::corridor {
 
@@ -57,6 +58,19 @@ GuideFrame CorridorGuide::process(const Accumulator& acc) {
   f.turn_rad = wheel_turn(f.delta_phi_rad, f.shift.shift_m, params_.turn);
   f.status = GuideStatus::ok;
   return f;
+}
+
+uint16_t edge_threshold(const cv::Mat& grey, stream::EdgeMode mode) {
+  std::vector<int> d;
+  d.reserve(static_cast<size_t>(grey.rows) * static_cast<size_t>(grey.cols));
+  for (int y = 0; y < grey.rows; ++y) {
+    const auto* row = grey.ptr<uint8_t>(y);
+    for (int x = 1; x < grey.cols; ++x) d.push_back(std::abs(row[x] - row[x - 1]));
+  }
+  if (d.empty()) return 4;
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+  const int t = std::max(4, 4 * d[d.size() / 2]);
+  return static_cast<uint16_t>(mode == stream::EdgeMode::kSobel ? 4 * t : t);
 }
 
 uint8_t CorridorGuide::next_weight_shift(const Accumulator& acc, uint32_t saturated_votes) {

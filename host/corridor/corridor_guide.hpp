@@ -7,9 +7,13 @@
 // the host programs for the next frame. docs/corridor.md, "Guidance".
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
+#include "common/edge_record.hpp"
 #include "host/camera_model.hpp"
 #include "host/corridor/corridor_model.hpp"
 #include "host/corridor/hough_lines.hpp"
@@ -47,6 +51,11 @@ struct GuideFrame {
   LateralShift shift;          // valid when status ok
   double turn_rad = 0.0;       // eq. 26 (0 unless ok)
 };
+
+// The eq. 17 threshold the host programs from a frame: 4 x the median
+// |p(x) - p(x-1)| over the frame (the noise's scale: most horizontal
+// neighbours see no edge), at least 4 grey levels; x4 for Sobel magnitudes.
+uint16_t edge_threshold(const cv::Mat& grey, stream::EdgeMode mode = stream::EdgeMode::kHorizontal);
 
 class CorridorGuide {
  public:

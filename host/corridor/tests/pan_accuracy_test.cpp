@@ -22,6 +22,7 @@
 #include "golden/corridor/render.hpp"
 #include "golden/edge_ref.hpp"
 #include "golden/hough_ref.hpp"
+#include "host/corridor/corridor_guide.hpp"
 #include "host/corridor/hough_lines.hpp"
 #include "host/corridor/vanishing.hpp"
 #include "real_corpus.hpp"
@@ -45,21 +46,6 @@ stream::HoughShape shape_of(int theta_step, int rho_bits, int acc_bits = 16) {
 // bins (4 px each on 640 x 480), 12-bit cells: the co-simulated large
 // variant of the hough block (Vhough_big).
 const stream::HoughShape kShape = shape_of(1, 9, 12);
-
-// The eq. 17 threshold from the frame: 4 x the median |p(x) - p(x-1)| over
-// the frame (the noise's scale: most horizontal neighbours see no edge),
-// at least 4 grey levels. x4 for Sobel magnitudes.
-uint16_t edge_threshold(const cv::Mat& grey, stream::EdgeMode mode) {
-  std::vector<int> d;
-  d.reserve(static_cast<size_t>(grey.rows) * static_cast<size_t>(grey.cols));
-  for (int y = 0; y < grey.rows; ++y) {
-    const auto* row = grey.ptr<uint8_t>(y);
-    for (int x = 1; x < grey.cols; ++x) d.push_back(std::abs(row[x] - row[x - 1]));
-  }
-  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
-  const int t = std::max(4, 4 * d[d.size() / 2]);
-  return static_cast<uint16_t>(mode == stream::EdgeMode::kSobel ? 4 * t : t);
-}
 
 // The hough configuration of a frame: rho bias W = width, the smallest rho
 // bin covering [-W, diagonal]; a weight shift that leaves no cell saturated
