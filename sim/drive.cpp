@@ -434,10 +434,9 @@ void Drive::expose_frame(int index, double t0) {
   }
   if (config_.ceiling.flow && m.status == nav::MeasurementStatus::ok &&
       pose.method == std::string_view("runs_centre_line")) {
-    track_tape_end(frame, out, pose, time);
-  } else if (flow_fit_ && ++flow_idle_frames_ > 5) {
-    submit_flow_fit();
-    flow_->reset();
+    track_tape_end(index, frame, out, pose, time);
+  } else {
+    flow_idle();
   }
   Pending tape;
   tape.m = m;
@@ -504,6 +503,7 @@ void Drive::submit_flow_fit() {
     if (map_course_.zone_at(fx, fy) == look.zone) {
       Pending h;
       h.kind = Pending::Kind::height;
+      h.frame = flow_frame_;
       h.height.time = flow_time_;
       h.height.height_m = flow_fit_->ceiling_above_camera_m;
       h.height.sigma_m = flow_fit_->std_error_m;
@@ -516,24 +516,31 @@ void Drive::submit_flow_fit() {
   flow_idle_frames_ = 0;
 }
 
-void Drive::track_tape_end(const cv::Mat& frame, const host::FrameOutcome& out,
+void Drive::flow_idle() {
+  // Five frames without the tape end: its track is over.
+  if (flow_fit_ && ++flow_idle_frames_ > 5) {
+    submit_flow_fit();
+    flow_->reset();
+  }
+}
+
+void Drive::track_tape_end(int index, const cv::Mat& frame, const host::FrameOutcome& out,
                            const host::TapePose& pose, const nav::MeasurementTime& time) {
   // A tape end's flow against the odometry's own dead reckoning (the raw
   // wheel readings: the filter relates the fit to its wheel scale states).
   const std::optional<Eigen::Vector2d> end =
       host::find_tape_end(frame, out.runs, navigator_->camera_model(), config_.camera, pose);
   if (!end) {
-    if (flow_fit_ && ++flow_idle_frames_ > 5) {
-      submit_flow_fit();
-      flow_->reset();
-    }
+    flow_idle();
     return;
   }
+  // The camera of the dead-reckoned pose, through the filter's mount.
   const nav::Pose2 o = odometry_track_.at(time.exposure_s);
-  const nav::CameraMount& mnt = config_.believed_mount;
-  const double c = std::cos(o.yaw_rad), s = std::sin(o.yaw_rad);
-  const nav::Pose2 camera{o.x_m + c * mnt.forward_m - s * mnt.left_m,
-                          o.y_m + s * mnt.forward_m + c * mnt.left_m, o.yaw_rad + mnt.yaw_rad};
+  nav::State odometry_state = nav::State::Zero();
+  odometry_state(nav::state::x) = o.x_m;
+  odometry_state(nav::state::y) = o.y_m;
+  odometry_state(nav::state::yaw) = o.yaw_rad;
+  const nav::Pose2 camera = ekf_->camera_pose(odometry_state);
   // A new track begins with this observation when it does not continue the
   // current one: the previous track is over.
   if (!flow_->add(camera, *end)) submit_flow_fit();
@@ -542,6 +549,7 @@ void Drive::track_tape_end(const cv::Mat& frame, const host::FrameOutcome& out,
   if (f.status == host::Status::ok) {
     flow_fit_ = f;
     flow_time_ = time;
+    flow_frame_ = index;
   }
 }
 

@@ -226,9 +226,11 @@ class Drive {
     double map_m = 0.0, estimate_m = 0.0, sigma_m = 0.0, truth_m = 0.0;
   };
   CeilingView ceiling_view(const nav::Pose2& camera) const;
-  // A tape end's flow against the odometry (frame exposed at `time`).
-  void track_tape_end(const cv::Mat& frame, const host::FrameOutcome& out,
+  // A tape end's flow against the odometry (frame `index`, exposed at `time`).
+  void track_tape_end(int index, const cv::Mat& frame, const host::FrameOutcome& out,
                       const host::TapePose& pose, const nav::MeasurementTime& time);
+  // A frame without the tape end: the current track ends after five.
+  void flow_idle();
   // The current track's fit as a CeilingHeight measurement, then forget it.
   void submit_flow_fit();
   // The nearest mapped station whose panel the filter's predicted view
@@ -254,13 +256,14 @@ class Drive {
   std::unique_ptr<nav::Ekf> ekf_;
   Course map_course_;  // the course as the map has it (its heights: ceiling.map_scale)
   // Tape-end flow: the odometry's own dead reckoning (nominal wheel scales),
-  // the current track, its latest fit and that fit's frame time, frames
-  // since it last grew.
+  // the current track, its latest fit and that fit's frame (time, index),
+  // frames since it last grew.
   nav::Pose2 odometry_pose_;
   PoseTrack odometry_track_;
   std::unique_ptr<host::FlowTrack> flow_;
   std::optional<host::FlowFit> flow_fit_;
   nav::MeasurementTime flow_time_;
+  int flow_frame_ = -1;
   int flow_idle_frames_ = 0;
   nav::PathFollower follower_;
   std::unique_ptr<drivers::Device> device_;  // the Navigator's and the stations'
