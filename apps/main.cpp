@@ -604,9 +604,10 @@ CLI::App* add_corridor_command(CLI::App& app, CorridorOptions& c) {
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   cmd->add_flag("--quiet", c.quiet, "No progress bar, no summary line");
-  cmd->add_flag("--require", c.require,
-                "Exit 1 unless pan RMS <= 0.3 deg, delta-x RMS <= 2 cm and every guided frame "
-                "is ok (rendered frames)");
+  cmd->add_flag(
+      "--require", c.require,
+      "Exit 1 unless pan RMS <= 0.3 deg, delta-x RMS <= 2 cm and 95 % of the guided frames "
+      "is ok (rendered frames)");
   return cmd;
 }
 

@@ -685,14 +685,14 @@ expect_error "calibrate-mount short run" "--run-length" "$work/cal/bad4" -- cali
 expect_error "calibrate-mount heading too large" "--heading" "$work/cal/bad5" -- calibrate-mount --out "$work/cal/bad5" --heading 20
 
 # corridor: the built-in learning drive and guided drives through the edge
-# and hough blocks: every output, a model, the pan goal (RMS <= 0.3 deg;
-# the lateral shift's goal is not met yet, docs/corridor.md); a frame folder with
+# and hough blocks: every output, a model, the goals with --require (pan RMS
+# <= 0.3 deg, lateral shift RMS <= 2 cm, 95 % of the guided frames ok); a frame folder with
 # fewer frames than the learning drive needs, a missing or bad scene file
 # and a bad angle are refused with a message and no output.
 cor=$work/corridor
-if $CEILNAV corridor --out "$cor" --quiet >/dev/null 2>"$work/corridor.err" &&
+if $CEILNAV corridor --out "$cor" --quiet --require >/dev/null 2>"$work/corridor.err" &&
   [ -s "$cor/corridor.csv" ] && [ -s "$cor/model.json" ] && [ -s "$cor/summary.json" ] &&
-  ls "$cor"/overlay_*.png >/dev/null 2>&1 && grep -q '"pan_rms_le_0.3deg": true' "$cor/summary.json" &&
+  ls "$cor"/overlay_*.png >/dev/null 2>&1 && grep -q '"goals_met": true' "$cor/summary.json" &&
   ! grep -q '"model_lines": 0' "$cor/summary.json"; then
   ok "corridor"
 else

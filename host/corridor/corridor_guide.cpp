@@ -1,6 +1,7 @@
 #include "host/corridor/corridor_guide.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 namespace ceilnav::host::corridor {
@@ -35,26 +36,42 @@ GuideFrame CorridorGuide::process(const Accumulator& acc) {
       f.lines.push_back(u);
     }
   }
-  f.pan = estimate_pan(f.lines, camera_, params_.mount, predicted_pan_rad_, params_.vanishing);
+  VanishingParams vp = params_.vanishing;
+  if (!tracking_pan_)
+    vp.pan_window_rad = std::max(vp.pan_window_rad, params_.acquire_pan_window_rad);
+  f.pan = estimate_pan(f.lines, camera_, params_.mount, predicted_pan_rad_, vp);
+  tracking_pan_ = f.pan.status != PanStatus::not_found;
   if (f.pan.status == PanStatus::not_found) {
+    ++frames_since_shift_;
     // Lost: the next frame searches around the path's own pan again (the
     // window around a stale prediction could miss the corridor for good).
     predicted_pan_rad_ = params_.initial_pan_rad;
     return f;
   }
   predicted_pan_rad_ = f.pan.pan_rad;
+  const int n = ++frames_since_shift_;
   f.delta_phi_rad = f.pan.heading_rad;
   f.status = GuideStatus::pan_only;
   if (model_ == nullptr) return f;
+  // The prediction: the last shift moved on at its rate for the n frames
+  // since; its sigma and gate grow as sqrt(n) (a random walk of the rate's
+  // error).
   ShiftOptions so = params_.shift;
-  if (last_shift_m_) so.prior_m = *last_shift_m_;
+  if (last_shift_m_) {
+    const double widen = std::sqrt(static_cast<double>(n));
+    so.prior_m = *last_shift_m_ + shift_rate_m_ * n;
+    so.prior_sigma_m *= widen;
+    so.prior_gate_m *= widen;
+  }
   // The shift uses the lines through the axis vanishing point only (the
   // model's lines are along the axis).
   std::vector<ImageLine> axis_lines;
   for (int i : f.pan.axis.inliers) axis_lines.push_back(f.lines[static_cast<size_t>(i)]);
   f.shift = lateral_shift(axis_lines, f.pan.pan_rad, *model_, so);
   if (!f.shift.valid) return f;
+  if (last_shift_m_) shift_rate_m_ = (f.shift.shift_m - *last_shift_m_) / n;
   last_shift_m_ = f.shift.shift_m;
+  frames_since_shift_ = 0;
   f.turn_rad = wheel_turn(f.delta_phi_rad, f.shift.shift_m, params_.turn);
   f.status = GuideStatus::ok;
   return f;

@@ -3,11 +3,14 @@
 // the pan (eq. 10-16, vanishing.hpp), the lateral shift against a learnt
 // model (eq. 21-25, lateral_shift.hpp) and the wheel turn (eq. 26-28,
 // turn_law.hpp), with what a frame carries to the next: the predicted pan,
-// the previous shift as the matching's prior, and the Hough weight shift
-// the host programs for the next frame. docs/corridor.md, "Guidance".
+// the predicted shift as the matching's prior (the last shift moved on at
+// its last rate, the prior widening with every frame without a shift), and
+// the Hough weight shift the host programs for the next frame.
+// docs/corridor.md, "Guidance".
 #pragma once
 
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -30,6 +33,11 @@ struct GuideParams {
   TurnLaw turn = design_turn_law();
   CameraMount mount;             // tilt, swing, pan on the vehicle (calibration)
   double initial_pan_rad = 0.0;  // the first frame's prediction, and after a frame without one
+  // The pan window (VanishingParams::pan_window_rad) of a frame without a
+  // prediction (the first, and after a frame without a pan): the vehicle
+  // may be turned well away from the path's pan then; the tracking window
+  // (10 deg) applies once a pan was found.
+  double acquire_pan_window_rad = 30.0 * std::numbers::pi / 180.0;
   // The first frame's prior on the lateral shift (the matching's, lateral_shift.hpp):
   // a guided drive starts where the learnt path does (0); nullopt: none.
   std::optional<double> initial_shift_m = 0.0;
@@ -74,7 +82,10 @@ class CorridorGuide {
   GuideParams params_;
   const CorridorModel* model_;
   double predicted_pan_rad_;
+  bool tracking_pan_ = false;  // the last frame had a pan
   std::optional<double> last_shift_m_;
+  double shift_rate_m_ = 0.0;  // per frame, from the last two shifts
+  int frames_since_shift_ = 0;
 };
 
 }  // namespace ceilnav::host::corridor

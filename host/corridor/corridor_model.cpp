@@ -59,7 +59,7 @@ Eigen::Matrix3d ModelCamera::k() const {
   return m;
 }
 
-ModelCamera model_camera(const CameraConfig& camera, double swing_rad) {
+ModelCamera model_camera(const CameraConfig& camera, const CameraMount& mount) {
   ModelCamera m;
   m.image_width = camera.image_width;
   m.image_height = camera.image_height;
@@ -67,8 +67,8 @@ ModelCamera model_camera(const CameraConfig& camera, double swing_rad) {
   m.fy = camera.fy();
   m.cx = camera.cx();
   m.cy = camera.cy();
-  m.tilt_rad = camera.camera_pitch_deg * kPi / 180.0;
-  m.swing_rad = swing_rad;
+  m.tilt_rad = mount.tilt_rad;
+  m.swing_rad = mount.swing_rad;
   return m;
 }
 

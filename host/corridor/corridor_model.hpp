@@ -47,9 +47,10 @@ struct ModelCamera {
   bool operator==(const ModelCamera&) const = default;
 };
 
-// tilt from camera_pitch_deg, K from the camera matrix; swing 0 (CameraConfig
-// has none).
-ModelCamera model_camera(const CameraConfig& camera, double swing_rad = 0.0);
+// K and the image size from the camera, tilt and swing from the mount (the
+// same angles the pan is estimated with; CameraConfig's camera_pitch_deg is
+// the tape system's and is not used).
+ModelCamera model_camera(const CameraConfig& camera, const CameraMount& mount);
 
 // World -> camera rotation for pan, tilt, swing: the same matrix as
 // golden::world_to_camera_rotation(pan, tilt, swing) (rows: camera x right,

@@ -20,6 +20,16 @@ struct ImageLine {
   Eigen::Vector3d homogeneous() const;
 };
 
+// The camera's fixed angles: tilt and swing to the floor (constant while
+// the vehicle drives on a flat floor, seed section 3.3) and its pan on the
+// vehicle phi_CA (eq. 16), all from calibration. The one source of the
+// tilt and swing for the pan (vanishing.hpp) and the model (corridor_model.hpp).
+struct CameraMount {
+  double tilt_rad = 0.0;
+  double swing_rad = 0.0;
+  double pan_on_vehicle_rad = 0.0;
+};
+
 // A line from homogeneous (a, b, c) (a, b not both 0), theta in [0, pi).
 ImageLine line_from_homogeneous(const Eigen::Vector3d& abc, double strength = 0.0);
 

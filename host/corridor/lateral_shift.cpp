@@ -83,9 +83,19 @@ LateralShift lateral_shift(const std::vector<ImageLine>& lines, double pan_rad,
   LateralShift out;
   if (pairs.empty()) return out;
 
-  // Consensus: each pair's shift is a proposal.
+  // Consensus: each pair's shift is a proposal, scored by its matches and
+  // the prior (ShiftOptions).
   const double centre = options.prior_m.value_or(0.0);
+  const auto score = [&](double s, std::size_t matches) {
+    double v = static_cast<double>(matches);
+    if (options.prior_m) {
+      const double z = (s - *options.prior_m) / options.prior_sigma_m;
+      v -= 0.5 * z * z;
+    }
+    return v;
+  };
   std::vector<std::size_t> best;
+  double best_score = -std::numeric_limits<double>::infinity();
   double best_residual = std::numeric_limits<double>::infinity();
   double best_distance = std::numeric_limits<double>::infinity();
   for (const LineShift& p : pairs) {
@@ -93,13 +103,17 @@ LateralShift lateral_shift(const std::vector<ImageLine>& lines, double pan_rad,
     double residual = 0.0;
     const std::vector<std::size_t> picks =
         agree(pairs, p.shift_m, options.match_tolerance_m, residual);
-    const double distance = std::abs(p.shift_m - centre);
-    const bool better = picks.size() > best.size() ||
-                        (picks.size() == best.size() &&
-                         (residual < best_residual - 1e-9 ||
-                          (residual <= best_residual + 1e-9 && distance < best_distance)));
+    double sigma = 0.0;
+    const double s = weighted_mean(pairs, picks, sigma);
+    const double v = score(s, picks.size());
+    const double distance = std::abs(s - centre);
+    const bool better =
+        v > best_score + 1e-9 || (v >= best_score - 1e-9 &&
+                                  (residual < best_residual - 1e-9 ||
+                                   (residual <= best_residual + 1e-9 && distance < best_distance)));
     if (better) {
       best = picks;
+      best_score = v;
       best_residual = residual;
       best_distance = distance;
     }

@@ -59,10 +59,18 @@ struct ShiftOptions {
   // spacing of ceiling lines (0.15 m between a lamp edge and a seam in the
   // default corridor), or shifts between two lines gather false matches.
   double match_tolerance_m = 0.04;
-  // A prior shift (the previous frame's, when tracking): only consensus
-  // shifts within prior_gate_m of it are considered. nullopt: none; ties
-  // then go to the shift nearest 0 (the learnt path).
+  // A prior shift (the predicted one, when tracking) and its standard
+  // deviation: a proposal s scores (matched lines) - ((s - prior) /
+  // prior_sigma_m)^2 / 2, the log-likelihood of its matches (one unit per
+  // line: a line the proposal explains) plus the Gaussian prior's; only
+  // proposals within prior_gate_m are considered. nullopt: none; the most
+  // matched lines win, ties to the smallest residual, then the shift nearest
+  // 0 (the learnt path). The ceiling's lines repeat (seams every 0.6 m, lamp
+  // edges 0.15 m from seams in the default corridor): a shift by such a
+  // step explains some lines as well as the true one, and the prior is what
+  // tells them apart.
   std::optional<double> prior_m;
+  double prior_sigma_m = 0.05;
   double prior_gate_m = 0.3;
 };
 
@@ -96,9 +104,9 @@ struct LateralShift {
 // Matches the current lines (at pan `pan_rad`, from the vanishing line) to
 // the model lines and combines them. Matching (the seed matches by rank,
 // which breaks when a line is missing): every pair (current i, model j)
-// proposes Delta-y_ij = h_j (q_j - q_i); the proposal that most pairs agree
-// with (one-to-one, within match_tolerance_m; ties to the smallest residual
-// sum, then to the prior or 0) wins, and its pairs are the matches.
+// proposes Delta-y_ij = h_j (q_j - q_i); the pairs that agree with a
+// proposal (one-to-one, within match_tolerance_m) are its matches, and the
+// proposal of the best score (ShiftOptions::prior_m) wins.
 LateralShift lateral_shift(const std::vector<ImageLine>& lines, double pan_rad,
                            const CorridorModel& model, const ShiftOptions& options = {});
 

@@ -25,15 +25,6 @@
 
 namespace ceilnav::host::corridor {
 
-// The camera's fixed angles: tilt and swing to the floor (constant while
-// the vehicle drives on a flat floor, seed section 3.3) and its pan on the
-// vehicle phi_CA (eq. 16), all from calibration.
-struct CameraMount {
-  double tilt_rad = 0.0;
-  double swing_rad = 0.0;
-  double pan_on_vehicle_rad = 0.0;
-};
-
 // eq. 11 (seed: vp_z, the axis direction) in our frames: the vanishing
 // point of +X on the undistorted image,
 //   u = cx + fx (cos psi sin phi + sin psi sin theta cos phi) / (cos theta cos phi)

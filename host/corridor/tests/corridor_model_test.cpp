@@ -19,6 +19,7 @@ namespace {
 
 using testing::ceiling_lines;
 using testing::corridor_camera;
+using testing::corridor_mount;
 using testing::kDeg;
 using testing::pose_at;
 
@@ -46,7 +47,7 @@ TEST(CorridorModel, InclinationOfTruthLinesIsLateralOffsetOverHeight) {
       for (double swing : {0.0, 2.0 * kDeg}) {
         golden::corridor::Pose pose = pose_at(y, pan);
         pose.swing_rad = swing;
-        const ModelCamera mc = model_camera(camera, swing);
+        const ModelCamera mc = model_camera(camera, corridor_mount(swing));
         for (const auto& t : ceiling_lines(camera, corridor, pose, 0.0, 0.0, rng)) {
           const std::optional<double> q = inclination(t.line, mc, pan);
           ASSERT_TRUE(q.has_value());
@@ -65,7 +66,7 @@ TEST(CorridorModel, InclinationOfTruthLinesIsLateralOffsetOverHeight) {
 // A pan error turns n_w about Z and leaves |n_w.xy| and n_w.z: the
 // inclination does not move (exactly, noise-free).
 TEST(CorridorModel, InclinationDoesNotDependOnThePan) {
-  const ModelCamera mc = model_camera(corridor_camera());
+  const ModelCamera mc = model_camera(corridor_camera(), corridor_mount());
   const ImageLine l = line_of_inclination(0.3, mc, 3.0 * kDeg);
   for (double wrong : {-5.0, 0.0, 3.0, 8.0})
     EXPECT_NEAR(*inclination(l, mc, wrong * kDeg), 0.3, 1e-12);
@@ -74,7 +75,7 @@ TEST(CorridorModel, InclinationDoesNotDependOnThePan) {
 // S2: the gradient against central differences everywhere, and against the
 // closed form for pan 0, swing 0.
 TEST(CorridorModel, InclinationGradientMatchesDifferencesAndTheClosedForm) {
-  const ModelCamera mc = model_camera(corridor_camera());
+  const ModelCamera mc = model_camera(corridor_camera(), corridor_mount());
   for (double pan : {0.0, 6.0 * kDeg}) {
     for (double q : {-0.7, -0.1, 0.25, 0.6}) {
       const ImageLine l = line_of_inclination(q, mc, pan);
@@ -132,7 +133,7 @@ std::vector<LearningImage> learning_drive(double path_y, double sigma_theta, dou
 // ceiling line seen in most images, at its true inclination.
 TEST(CorridorModel, LearnsEveryCeilingLineDespiteMissingAndSpuriousLines) {
   const CameraConfig camera = corridor_camera();
-  const ModelCamera mc = model_camera(camera);
+  const ModelCamera mc = model_camera(camera, corridor_mount());
   std::mt19937_64 rng(7);
   const double path_y = 0.0;
   const std::vector<LearningImage> images = learning_drive(path_y, 0.1 * kDeg, 0.5, 17, rng, true);
@@ -178,7 +179,7 @@ TEST(CorridorModel, LearnsEveryCeilingLineDespiteMissingAndSpuriousLines) {
 // misses a line; the nearest-median grouping does not. This pins down why
 // the deviation exists.
 TEST(CorridorModel, RankGroupingWouldMixLinesWhereTheNearestMedianDoesNot) {
-  const ModelCamera mc = model_camera(corridor_camera());
+  const ModelCamera mc = model_camera(corridor_camera(), corridor_mount());
   std::mt19937_64 rng(11);
   const std::vector<LearningImage> images = learning_drive(0.0, 0.0, 0.0, 17, rng, true);
   // Rank grouping: sort each image's lines by inclination; group k = k-th.
@@ -210,7 +211,7 @@ TEST(CorridorModel, RankGroupingWouldMixLinesWhereTheNearestMedianDoesNot) {
 }
 
 TEST(CorridorModel, KeepsTheBestSupportedLinesAndRejectsBadInput) {
-  const ModelCamera mc = model_camera(corridor_camera());
+  const ModelCamera mc = model_camera(corridor_camera(), corridor_mount());
   std::mt19937_64 rng(3);
   const std::vector<LearningImage> images = learning_drive(0.2, 0.05 * kDeg, 0.3, 9, rng, false);
   LearnOptions opt;
@@ -222,7 +223,7 @@ TEST(CorridorModel, KeepsTheBestSupportedLinesAndRejectsBadInput) {
 }
 
 CorridorModel small_model() {
-  const ModelCamera mc = model_camera(corridor_camera());
+  const ModelCamera mc = model_camera(corridor_camera(), corridor_mount());
   std::mt19937_64 rng(5);
   return learn_model(learning_drive(0.0, 0.1 * kDeg, 0.5, 17, rng, true), mc, {});
 }

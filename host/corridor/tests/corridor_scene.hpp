@@ -26,6 +26,11 @@ inline CameraConfig corridor_camera() {
   return c;
 }
 
+// Its mount: tilt 35 deg, the given swing.
+inline CameraMount corridor_mount(double swing_rad = 0.0) {
+  return {35.0 * kDeg, swing_rad, 0.0};
+}
+
 inline golden::corridor::Pose pose_at(double y_m, double pan_rad, double x_m = 2.0) {
   golden::corridor::Pose p;
   p.x_m = x_m;

@@ -13,6 +13,7 @@ namespace {
 
 using testing::ceiling_lines;
 using testing::corridor_camera;
+using testing::corridor_mount;
 using testing::kDeg;
 using testing::lines_of;
 using testing::pose_at;
@@ -37,7 +38,7 @@ CorridorModel centre_model(double sigma_theta, double sigma_rho, uint64_t seed) 
   }
   LearnOptions opt;
   opt.line_height_m = camera.ceiling_above_camera_m();
-  return learn_model(images, model_camera(camera), opt);
+  return learn_model(images, model_camera(camera, corridor_mount()), opt);
 }
 
 std::vector<ImageLine> current_lines(double y, double pan, double sigma_theta, double sigma_rho,
