@@ -135,8 +135,15 @@ struct DriveOptions {
   bool plot = true;
   bool quiet = false;
   bool require = false;  // exit 1 unless the goals are met
+  // A corridor without tape (seed 002): "default" or a corridor file; the
+  // robot is guided by the corridor lines (run_corridor_drive). Empty: the
+  // tape course.
+  std::string corridor;
+  double length_m = 50.0;  // the corridor drive's length
 };
 int run_drive(const DriveOptions& o);
+// `ceilnav drive --corridor`: the closed corridor loop (sim/corridor_drive.hpp).
+int run_corridor_drive(const DriveOptions& o);
 
 // `ceilnav corridor`: seed 002's corridor guidance (docs/corridor.md,
 // "ceilnav corridor"): learn a model of the ceiling lines from a driven

@@ -25,8 +25,8 @@
 #include "host/camera_config_io.hpp"
 #include "host/corridor/corridor_guide.hpp"
 #include "host/frame_io.hpp"
-#include "stream/edge.hpp"
-#include "stream/hough.hpp"
+#include "sim/corridor_device.hpp"
+#include "sim/corridor_drive.hpp"
 
 namespace ceilnav::app {
 namespace {
@@ -35,67 +35,13 @@ namespace fs = std::filesystem;
 namespace gc = golden::corridor;
 namespace hc = host::corridor;
 
-// The hough shape the pan goal needs (docs/corridor.md, "Lines, vanishing
-// points and pan"): 1-deg thetas, 512 rho bins, 12-bit cells.
-stream::HoughShape corridor_shape() {
-  stream::HoughShape s;
-  s.lanes = 8;
-  s.theta_step = 1;
-  s.rho_bits = 9;
-  s.acc_bits = 12;
-  return s;
-}
-
-// The device's edge and hough blocks on one frame (their fast paths), as the
-// host reads the published accumulator; `saturated`: HOUGH's count.
-struct DeviceFrame {
-  hc::Accumulator acc;
-  uint32_t edges = 0, saturated = 0;
-};
-DeviceFrame device_frame(const cv::Mat& grey, const stream::HoughShape& shape,
-                         uint8_t weight_shift) {
-  stream::EdgeConfig ec;
-  ec.enable = true;
-  ec.mode = stream::EdgeMode::kHorizontal;
-  ec.threshold = hc::edge_threshold(grey);
-  std::vector<stream::EdgeRecord> edges;
-  const cv::Mat g = grey.isContinuous() ? grey : grey.clone();
-  stream::EdgeDetector::scan_frame(ec, g.ptr<uint8_t>(0), static_cast<uint32_t>(g.cols),
-                                   static_cast<uint32_t>(g.rows), edges);
-  std::vector<uint64_t> beats;
-  beats.reserve(edges.size());
-  for (const stream::EdgeRecord& e : edges) beats.push_back(stream::pack_edge_beat(e));
-  DeviceFrame f;
-  f.acc.shape = shape;
-  f.acc.config.width = static_cast<uint16_t>(grey.cols);
-  f.acc.config.weight_shift = weight_shift;
-  // The rho bins cover [-W, diagonal].
-  const double span = grey.cols + std::hypot(grey.cols, grey.rows);
-  while (static_cast<double>(shape.rho_bins()) * (1u << f.acc.config.rho_shift) < span) {
-    ++f.acc.config.rho_shift;
-  }
-  stream::Hough h(shape);
-  h.process_frame(beats, stream::pack_edge_trailer(edges.size(), 0, 0), f.acc.config);
-  const std::vector<uint32_t> cells = h.results();
-  f.acc.cells.assign(cells.begin(), cells.end());
-  f.edges = static_cast<uint32_t>(edges.size());
-  f.saturated = h.counters().saturated;
-  return f;
-}
-
-// The first frame's weight shift: one edge per row on a line can give a
-// cell at most sum (y + 1) = H (H + 1) / 2 (eq. 18), which must fit the cell.
-uint8_t initial_weight_shift(int height, const stream::HoughShape& shape) {
-  const uint64_t worst = static_cast<uint64_t>(height) * static_cast<uint64_t>(height + 1) / 2;
-  uint8_t s = 0;
-  while (s < 15 && (worst >> s) > shape.acc_max()) ++s;
-  return s;
-}
-
 struct FrameInput {
   cv::Mat grey;
   std::string name;
   std::optional<gc::Pose> truth;
+  // The distance from the previous frame of its drive (the wheel odometry's;
+  // the built-in drives know it, recorded frames do not).
+  std::optional<double> travelled_m;
 };
 
 // The built-in drives. Learning: 17 frames (as the paper's) along the
@@ -110,13 +56,7 @@ struct BuiltIn {
 };
 BuiltIn built_in_drive(const gc::Pose& base) {
   BuiltIn b;
-  for (int i = 0; i < 17; ++i) {
-    gc::Pose p = base;
-    p.x_m = base.x_m + i;
-    p.y_m = base.y_m + 0.01 * std::sin(0.9 * i);
-    p.pan_rad = base.pan_rad + 0.5 * kDeg * std::sin(1.3 * i + 0.4);
-    b.learn.push_back(p);
-  }
+  b.learn = sim::learning_drive(base);
   const auto drive = [&](double length_m, auto dy, auto slope) {
     std::vector<gc::Pose> d;
     for (int k = 0; 0.4 * k <= length_m + 1e-9; ++k) {
@@ -198,7 +138,7 @@ int run_corridor(const CorridorOptions& o) {
     }
     for (size_t i = 0; i < files.size(); ++i) {
       FrameInput in{host::read_grey_frame(files[i], camera.image_width, camera.image_height),
-                    files[i].filename().string(), std::nullopt};
+                    files[i].filename().string(), std::nullopt, std::nullopt};
       (static_cast<int>(i) < o.learn_frames ? learn : drives[0]).push_back(std::move(in));
     }
   } else {
@@ -209,13 +149,20 @@ int run_corridor(const CorridorOptions& o) {
     int k = 0;
     const auto render = [&](const gc::Pose& p) {
       rp.noise_seed = static_cast<uint64_t>(++k);
-      return FrameInput{gc::render_frame(camera, corridor, p, rp), frame_name(k - 1), p};
+      return FrameInput{gc::render_frame(camera, corridor, p, rp), frame_name(k - 1), p,
+                        std::nullopt};
     };
     for (const gc::Pose& p : b.learn) learn.push_back(render(p));
     drives.clear();
     for (const std::vector<gc::Pose>& d : b.drives) {
       drives.emplace_back();
-      for (const gc::Pose& p : d) drives.back().push_back(render(p));
+      for (size_t j = 0; j < d.size(); ++j) {
+        drives.back().push_back(render(d[j]));
+        if (j > 0) {
+          drives.back().back().travelled_m =
+              std::hypot(d[j].x_m - d[j - 1].x_m, d[j].y_m - d[j - 1].y_m);
+        }
+      }
     }
   }
   size_t guided = 0;
@@ -223,10 +170,12 @@ int run_corridor(const CorridorOptions& o) {
   OutputFolder out(o.out_dir);
 
   hc::GuideParams gp;
-  gp.mount = {base.tilt_rad, base.swing_rad, 0.0};
+  // The scene camera's pan is its pan on the vehicle (the vehicle heads
+  // along the axis on the learnt path): Delta-phi is the vehicle's heading.
+  gp.mount = {base.tilt_rad, base.swing_rad, base.pan_rad};
   gp.initial_pan_rad = base.pan_rad;
-  const stream::HoughShape shape = corridor_shape();
-  uint8_t ws = initial_weight_shift(camera.image_height, shape);
+  const stream::HoughShape shape = sim::corridor_hough_shape();
+  sim::CorridorDevice device(shape, camera.image_width, camera.image_height);
   // h of the model's lines: the ceiling above the camera.
   hc::LearnOptions lo;
   lo.line_height_m = corridor.ceiling_height_m - base.height_m;
@@ -238,7 +187,7 @@ int run_corridor(const CorridorOptions& o) {
   Rms pan_err, dx_err;
   int learn_found = 0, guide_ok = 0, guide_pan = 0;
   auto row = [&](const FrameInput& in, const char* phase, const hc::GuideFrame& f,
-                 const DeviceFrame& d, double learnt_y) {
+                 const sim::CorridorDeviceFrame& d, double learnt_y) {
     std::string truth = ",,,";
     if (in.truth && f.status != hc::GuideStatus::not_found) {
       const double tp = in.truth->pan_rad / kDeg, tdx = in.truth->y_m - learnt_y;
@@ -270,15 +219,11 @@ int run_corridor(const CorridorOptions& o) {
   {
     hc::CorridorGuide g(camera, gp);
     for (const FrameInput& in : learn) {
-      const DeviceFrame d = device_frame(in.grey, shape, ws);
-      ws = hc::CorridorGuide::next_weight_shift(d.acc, d.saturated);
+      const sim::CorridorDeviceFrame& d = device.process(in.grey);
       const hc::GuideFrame f = g.process(d.acc);
-      if (f.status != hc::GuideStatus::not_found) {
+      if (std::optional<hc::LearningImage> li = hc::learning_image(f)) {
         ++learn_found;
-        hc::LearningImage li;
-        li.pan_rad = f.pan.pan_rad;
-        for (int i : f.pan.axis.inliers) li.lines.push_back(f.lines[static_cast<size_t>(i)]);
-        images.push_back(std::move(li));
+        images.push_back(std::move(*li));
       }
       if (in.truth) {
         learnt_y += in.truth->y_m;
@@ -304,9 +249,8 @@ int run_corridor(const CorridorOptions& o) {
     hc::CorridorGuide g(camera, gp, &model);
     const std::string phase = fmt::format("guide{}", di);
     for (const FrameInput& in : drives[di]) {
-      const DeviceFrame d = device_frame(in.grey, shape, ws);
-      ws = hc::CorridorGuide::next_weight_shift(d.acc, d.saturated);
-      const hc::GuideFrame f = g.process(d.acc);
+      const sim::CorridorDeviceFrame& d = device.process(in.grey);
+      const hc::GuideFrame f = g.process(d.acc, in.travelled_m);
       guide_pan += f.status != hc::GuideStatus::not_found;
       guide_ok += f.status == hc::GuideStatus::ok;
       if (in.truth && f.status != hc::GuideStatus::not_found) {

@@ -251,6 +251,7 @@ void write_plot(const fs::path& png, const sim::Drive& d) {
 }  // namespace
 
 int run_drive(const DriveOptions& o) {
+  if (!o.corridor.empty()) return run_corridor_drive(o);
   if (o.monte_carlo < 1) throw std::runtime_error("drive: --monte-carlo must be at least 1");
   const sim::Course course =
       !o.course_file.empty() ? sim::load_course(o.course_file)

@@ -296,6 +296,19 @@ CLI::App* add_drive_command(CLI::App& app, DriveOptions& drive) {
       ->check(CLI::Range(60.0, 10000.0))
       ->needs(random_opt)
       ->capture_default_str();
+  auto* corridor_opt =
+      cmd->add_option("--corridor", drive.corridor,
+                      "Drive down a corridor without tape on seed 002's guidance instead: "
+                      "'default' (the built-in corridor) or a corridor file "
+                      "(docs/navigation_io.md); writes corridor_drive.csv, model.json, "
+                      "summary.json and drive.png")
+          ->check(CLI::ExistingFile | CLI::IsMember({"default"}))
+          ->excludes("--course")
+          ->excludes(random_opt);
+  cmd->add_option("--length", drive.length_m, "Length of the corridor drive, m")
+      ->check(CLI::Range(2.0, 10000.0))
+      ->needs(corridor_opt)
+      ->capture_default_str();
   cmd->add_option("--out", drive.out_dir, "Output folder (created)")->capture_default_str();
   cmd->add_option("--backend", drive.backend,
                   "fast, model (C++ cycle-level device) or rtl (Verilated RTL; slow: use a short "
@@ -607,7 +620,7 @@ CLI::App* add_corridor_command(CLI::App& app, CorridorOptions& c) {
   cmd->add_flag(
       "--require", c.require,
       "Exit 1 unless pan RMS <= 0.3 deg, delta-x RMS <= 2 cm and 95 % of the guided frames "
-      "is ok (rendered frames)");
+      "are ok (rendered frames)");
   return cmd;
 }
 

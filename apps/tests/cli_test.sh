@@ -700,6 +700,25 @@ else
 fi
 mkdir -p "$work/cor_frames"
 cp "$cor"/overlay_*.png "$work/cor_frames/" 2>/dev/null
+# drive --corridor: the closed corridor loop over 12 m (capture from 0.2 m off
+# the path; the lateral goal is over 50 m, sim/tests/corridor_drive_test.cpp
+# checks the capture): its outputs;
+# tape-course options, a drive past the corridor's far end and a missing
+# corridor file are refused with a message and no output.
+cd_out=$work/corridor_drive
+if $CEILNAV drive --corridor default --length 12 --out "$cd_out" --quiet \
+  >/dev/null 2>"$work/corridor_drive.err" &&
+  [ -s "$cd_out/corridor_drive.csv" ] && [ -s "$cd_out/model.json" ] && [ -s "$cd_out/drive.png" ] &&
+  grep -q '"completed": true' "$cd_out/summary.json" &&
+  [ "$(wc -l <"$cd_out/corridor_drive.csv")" -gt 100 ]; then
+  ok "drive --corridor"
+else
+  bad "drive --corridor" "$(cat "$work/corridor_drive.err" "$cd_out/summary.json" 2>/dev/null | tail -5)"
+fi
+expect_error "drive --corridor with --backend" "backend" "$work/cd_bad1" -- drive --corridor default --out "$work/cd_bad1" --backend model
+expect_error "drive --corridor past the end" "far end" "$work/cd_bad2" -- drive --corridor default --out "$work/cd_bad2" --length 80
+expect_error "drive --corridor missing file" "corridor" "$work/cd_bad3" -- drive --corridor "$work/nope.yaml" --out "$work/cd_bad3"
+expect_error "drive --corridor with --course" "course" "$work/cd_bad4" -- drive --corridor default --course "$work/nope.yaml" --out "$work/cd_bad4"
 expect_error "corridor too few frames" "learn-frames" "$work/corridor_bad1" -- corridor --out "$work/corridor_bad1" --frames "$work/cor_frames" --learn-frames 17
 expect_error "corridor missing scene" "scene" "$work/corridor_bad2" -- corridor --out "$work/corridor_bad2" --scene "$work/nope.yaml"
 expect_error "corridor bad tilt" "--tilt" "$work/corridor_bad3" -- corridor --out "$work/corridor_bad3" --tilt nan

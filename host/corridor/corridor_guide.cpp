@@ -25,9 +25,10 @@ CorridorGuide::CorridorGuide(const CameraConfig& camera, const GuideParams& para
       params_(params),
       model_(model),
       predicted_pan_rad_(params.initial_pan_rad),
-      last_shift_m_(params.initial_shift_m) {}
+      last_shift_m_(params.initial_shift_m),
+      last_sigma_m_(params.initial_shift_sigma_m) {}
 
-GuideFrame CorridorGuide::process(const Accumulator& acc) {
+GuideFrame CorridorGuide::process(const Accumulator& acc, std::optional<double> travelled_m) {
   GuideFrame f;
   f.raw_lines = extract_lines(acc, params_.lines);
   for (const HoughLine& h : f.raw_lines) {
@@ -43,6 +44,9 @@ GuideFrame CorridorGuide::process(const Accumulator& acc) {
   tracking_pan_ = f.pan.status != PanStatus::not_found;
   if (f.pan.status == PanStatus::not_found) {
     ++frames_since_shift_;
+    // Blind: the heading is the last one measured.
+    if (travelled_m && last_delta_phi_rad_)
+      moved_m_ += *travelled_m * std::sin(*last_delta_phi_rad_);
     // Lost: the next frame searches around the path's own pan again (the
     // window around a stale prediction could miss the corridor for good).
     predicted_pan_rad_ = params_.initial_pan_rad;
@@ -50,18 +54,25 @@ GuideFrame CorridorGuide::process(const Accumulator& acc) {
   }
   predicted_pan_rad_ = f.pan.pan_rad;
   const int n = ++frames_since_shift_;
+  if (travelled_m) {
+    // The heading over the step: the mean of the last and this frame's.
+    const double phi =
+        last_delta_phi_rad_ ? 0.5 * (*last_delta_phi_rad_ + f.pan.heading_rad) : f.pan.heading_rad;
+    moved_m_ += *travelled_m * std::sin(phi);
+  }
+  last_delta_phi_rad_ = f.pan.heading_rad;
   f.delta_phi_rad = f.pan.heading_rad;
   f.status = GuideStatus::pan_only;
   if (model_ == nullptr) return f;
-  // The prediction: the last shift moved on at its rate for the n frames
-  // since; its sigma and gate grow as sqrt(n) (a random walk of the rate's
-  // error).
+  // The prediction: the last shift moved on by the lateral motion since;
+  // its sigma (the last frame's, then the options') and gate grow as sqrt(n)
+  // with the n frames since the last shift.
   ShiftOptions so = params_.shift;
   if (last_shift_m_) {
     const double widen = std::sqrt(static_cast<double>(n));
-    so.prior_m = *last_shift_m_ + shift_rate_m_ * n;
-    so.prior_sigma_m *= widen;
-    so.prior_gate_m *= widen;
+    so.prior_m = *last_shift_m_ + moved_m_;
+    so.prior_sigma_m = last_sigma_m_ * widen;
+    so.prior_gate_m *= std::max(1.0, last_sigma_m_ / params_.shift.prior_sigma_m) * widen;
   }
   // The shift uses the lines through the axis vanishing point only (the
   // model's lines are along the axis).
@@ -69,12 +80,21 @@ GuideFrame CorridorGuide::process(const Accumulator& acc) {
   for (int i : f.pan.axis.inliers) axis_lines.push_back(f.lines[static_cast<size_t>(i)]);
   f.shift = lateral_shift(axis_lines, f.pan.pan_rad, *model_, so);
   if (!f.shift.valid) return f;
-  if (last_shift_m_) shift_rate_m_ = (f.shift.shift_m - *last_shift_m_) / n;
   last_shift_m_ = f.shift.shift_m;
+  last_sigma_m_ = params_.shift.prior_sigma_m;
   frames_since_shift_ = 0;
+  moved_m_ = 0.0;
   f.turn_rad = wheel_turn(f.delta_phi_rad, f.shift.shift_m, params_.turn);
   f.status = GuideStatus::ok;
   return f;
+}
+
+std::optional<LearningImage> learning_image(const GuideFrame& frame) {
+  if (frame.pan.status == PanStatus::not_found) return std::nullopt;
+  LearningImage li;
+  li.pan_rad = frame.pan.pan_rad;
+  for (int i : frame.pan.axis.inliers) li.lines.push_back(frame.lines[static_cast<size_t>(i)]);
+  return li;
 }
 
 uint16_t edge_threshold(const cv::Mat& grey, stream::EdgeMode mode) {
