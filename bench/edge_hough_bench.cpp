@@ -10,6 +10,14 @@
 //   BM_EdgeHoughGolden      golden::find_edges_ref + golden::hough_ref
 //   BM_EdgeFast / BM_HoughVoteFast, BM_EdgeScanFrame / BM_HoughProcessFrame:
 //                           the two halves alone.
+//   BM_CorridorDeviceFrame  sim::CorridorDevice::process in the guidance's
+//                           shape (1-deg thetas, 512 rho bins, 12-bit cells):
+//                           the threshold rule, the fast path, the clipped
+//                           cells, the next weight shift
+//   BM_CorridorGuideFrame   the host's work on that accumulator:
+//                           CorridorGuide::process (lines, undistortion, pan,
+//                           shift against a model learnt from the learning
+//                           drive of sim::learning_drive, turn)
 // Args: pose (0 .. 4) and the edge density: 0 = the realistic threshold
 // kRealisticThreshold (eq. 17, horizontal differences), else the target in
 // per mille (the threshold giving the density nearest to it on that frame:
@@ -36,6 +44,9 @@
 #include "golden/default_scene.hpp"
 #include "golden/edge_ref.hpp"
 #include "golden/hough_ref.hpp"
+#include "host/corridor/corridor_guide.hpp"
+#include "sim/corridor_device.hpp"
+#include "sim/corridor_drive.hpp"
 #include "stream/edge.hpp"
 #include "stream/edge_hough_fast.hpp"
 #include "stream/hough.hpp"
@@ -241,6 +252,68 @@ void BM_EdgeHoughGolden(benchmark::State& state) {
   set_counters(state, c, n, 0);
 }
 
+void BM_CorridorDeviceFrame(benchmark::State& state) {
+  const cv::Mat& f = frame(static_cast<int>(state.range(0)));
+  sim::CorridorDevice device(sim::corridor_hough_shape(), f.cols, f.rows);
+  for (auto _ : state) benchmark::DoNotOptimize(device.process(f).acc.cells.data());
+  state.counters["pixels"] = benchmark::Counter(static_cast<double>(f.total()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["edges"] = static_cast<double>(device.process(f).edges);
+}
+
+// The model of the default corridor from the learning drive at the default
+// pose (as ceilnav corridor learns it).
+const host::corridor::CorridorModel& learnt_model() {
+  static const host::corridor::CorridorModel model = [] {
+    const host::CameraConfig camera = golden::default_camera();
+    const gc::Pose base = gc::default_pose();
+    host::corridor::GuideParams gp;
+    gp.mount = {base.tilt_rad, base.swing_rad, base.pan_rad};
+    gp.initial_pan_rad = base.pan_rad;
+    sim::CorridorDevice device(sim::corridor_hough_shape(), camera.image_width,
+                               camera.image_height);
+    host::corridor::CorridorGuide learner(camera, gp);
+    std::vector<host::corridor::LearningImage> images;
+    gc::RenderParams rp;
+    rp.supersample = 4;
+    for (const gc::Pose& p : sim::learning_drive(base)) {
+      const host::corridor::GuideFrame g = learner.process(
+          device.process(gc::render_frame(camera, gc::default_corridor(), p, rp)).acc);
+      if (auto li = host::corridor::learning_image(g)) images.push_back(*li);
+    }
+    host::corridor::LearnOptions lo;
+    lo.line_height_m = gc::default_corridor().ceiling_height_m - base.height_m;
+    return host::corridor::learn_model(images, host::corridor::model_camera(camera, gp.mount), lo);
+  }();
+  return model;
+}
+
+void BM_CorridorGuideFrame(benchmark::State& state) {
+  const int i = static_cast<int>(state.range(0));
+  const cv::Mat& f = frame(i);
+  const host::CameraConfig camera = golden::default_camera();
+  const gc::Pose p = pose(i);
+  sim::CorridorDevice device(sim::corridor_hough_shape(), f.cols, f.rows);
+  const host::corridor::Accumulator acc = device.process(f).acc;
+  host::corridor::GuideParams gp;
+  gp.mount = {p.tilt_rad, p.swing_rad, 0.0};
+  gp.initial_pan_rad = p.pan_rad;
+  gp.initial_shift_m.reset();
+  host::corridor::GuideFrame g;
+  for (auto _ : state) {
+    // A fresh guide each frame: no prediction (the acquisition window, no
+    // prior on the shift: the most work a frame can take).
+    state.PauseTiming();
+    host::corridor::CorridorGuide guide(camera, gp, i == 0 ? &learnt_model() : nullptr);
+    state.ResumeTiming();
+    g = guide.process(acc);
+    benchmark::DoNotOptimize(g.lines.data());
+  }
+  state.counters["lines"] = static_cast<double>(g.lines.size());
+  state.counters["axis_lines"] = static_cast<double>(g.pan.axis.inliers.size());
+  state.counters["ok"] = g.status == host::corridor::GuideStatus::ok ? 1.0 : 0.0;
+}
+
 // Every pose at the realistic threshold, the default pose at 1 %, 3 %, 10 %
 // and 15 % (integer thresholds: t = 5 gives 8.4 %, t = 4 14.3 %).
 constexpr int64_t kDensities[] = {10, 30, 100, 150};
@@ -254,6 +327,8 @@ void few_args(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_EdgeHoughFast)->Apply(corridor_args)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CorridorDeviceFrame)->DenseRange(0, kPoses - 1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CorridorGuideFrame)->DenseRange(0, kPoses - 1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EdgeFast)->Apply(corridor_args)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HoughVoteFast)->Apply(corridor_args)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EdgeHoughCycleModels)->Apply(corridor_args)->Unit(benchmark::kMicrosecond);

@@ -719,6 +719,27 @@ expect_error "drive --corridor with --backend" "backend" "$work/cd_bad1" -- driv
 expect_error "drive --corridor past the end" "far end" "$work/cd_bad2" -- drive --corridor default --out "$work/cd_bad2" --length 80
 expect_error "drive --corridor missing file" "corridor" "$work/cd_bad3" -- drive --corridor "$work/nope.yaml" --out "$work/cd_bad3"
 expect_error "drive --corridor with --course" "course" "$work/cd_bad4" -- drive --corridor default --course "$work/nope.yaml" --out "$work/cd_bad4"
+# Two held-out corridors (docs/corridor.md, "Held-out corridors"), the two
+# that lost most frames: the goals with --require.
+for s in study_doors study_narrow_1p8; do
+  if $CEILNAV corridor --scene "$here/../../examples/corridor/$s.yaml" --out "$work/corridor_$s" \
+    --quiet --require --overlays 0 >/dev/null 2>"$work/corridor_$s.err"; then
+    ok "corridor $s"
+  else
+    bad "corridor $s" "$(cat "$work/corridor_$s.err" "$work/corridor_$s/summary.json" 2>/dev/null | tail -8)"
+  fi
+done
+# Frames without a corridor (the tape renders of the start of this script):
+# no model, every frame not_found, no model.json; exit 0 (the answer is "not
+# found", not an error).
+if $CEILNAV corridor --frames "$frames" --learn-frames 3 --out "$work/corridor_none" --quiet \
+  >/dev/null 2>"$work/corridor_none.err" &&
+  [ ! -e "$work/corridor_none/model.json" ] && grep -q '"no_model"' "$work/corridor_none/summary.json" &&
+  [ "$(grep -c ',not_found,' "$work/corridor_none/corridor.csv")" -eq 6 ]; then
+  ok "corridor without a corridor"
+else
+  bad "corridor without a corridor" "$(cat "$work/corridor_none.err" "$work/corridor_none/corridor.csv" 2>/dev/null | tail -8)"
+fi
 expect_error "corridor too few frames" "learn-frames" "$work/corridor_bad1" -- corridor --out "$work/corridor_bad1" --frames "$work/cor_frames" --learn-frames 17
 expect_error "corridor missing scene" "scene" "$work/corridor_bad2" -- corridor --out "$work/corridor_bad2" --scene "$work/nope.yaml"
 expect_error "corridor bad tilt" "--tilt" "$work/corridor_bad3" -- corridor --out "$work/corridor_bad3" --tilt nan

@@ -6,6 +6,8 @@
 
 namespace ceilnav::host::corridor {
 
+TurnLaw design_turn_law() { return design_turn_law(TurnLawDesign{}); }
+
 TurnLaw design_turn_law(const TurnLawDesign& d) {
   if (!(d.convergence_length_m > 0.0) || !(d.damping > 0.0) || !(d.wheelbase_m > 0.0) ||
       !(d.credible_heading_rad > 0.0) || !(d.max_curvature_per_m > 0.0) || !std::isfinite(d.s_m)) {

@@ -66,7 +66,8 @@ struct TurnLawDesign {
   double s_m = 0.0;
 };
 
-TurnLaw design_turn_law(const TurnLawDesign& design = {});
+TurnLaw design_turn_law(const TurnLawDesign& design);
+TurnLaw design_turn_law();  // the default design
 
 double heading_term(double delta_phi_rad, const TurnLaw& law);                  // f, eq. 27
 double shift_term(double delta_y_m, const TurnLaw& law);                        // g, eq. 28

@@ -7,6 +7,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "host/corridor/corridor_model.hpp"
+
 namespace ceilnav::host::corridor {
 namespace {
 
@@ -201,8 +203,23 @@ VanishingEstimate find_vanishing_point(const std::vector<ImageLine>& lines,
   out.point = to_pixels(camera, p);
   out.direction = dir(p);
   out.residual_rad = wsum > 0.0 ? std::sqrt(sum / wsum) : 0.0;
+  // The share is of the lines the vertical direction does not explain: the
+  // images of vertical edges (door jambs, corners) pass through its
+  // vanishing point, which the tilt and swing alone fix (no pan), and are
+  // part of any building, not evidence against the corridor's axis.
+  const Eigen::Vector3d up =
+      world_to_camera(0.0, m.tilt_rad, m.swing_rad) * Eigen::Vector3d::UnitZ();
   double total = 0.0;
-  for (const ImageLine& l : lines) total += std::max(l.strength, 1e-9);
+  for (int i = 0; i < n; ++i) {
+    const bool vertical =
+        std::asin(std::min(1.0, std::abs(planes[static_cast<size_t>(i)].dot(up)))) <=
+        params.inlier_rad;
+    if (axis_direction && vertical &&
+        std::find(out.inliers.begin(), out.inliers.end(), i) == out.inliers.end()) {
+      continue;
+    }
+    total += std::max(lines[static_cast<size_t>(i)].strength, 1e-9);
+  }
   out.support = wsum / total;
   const int need = axis_direction ? params.min_axis_lines : params.min_cross_lines;
   out.found =

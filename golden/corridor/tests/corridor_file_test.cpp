@@ -41,6 +41,27 @@ TEST(CorridorFile, ExampleFileIsTheBuiltInCorridor) {
   EXPECT_EQ(*file.camera, default_pose());
 }
 
+// The held-out corridors of docs/corridor.md ("Held-out corridors") load,
+// differ from the built-in corridor, carry a camera, and leave room for the
+// built-in drives of ceilnav corridor: 40 m beyond the camera (16 m of
+// learning, 24 m of the weave) and +-0.8 m about its y inside the walls.
+TEST(CorridorFile, HeldOutExampleFilesLoadAndFitTheBuiltInDrives) {
+  int n = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(CEILNAV_SOURCE_DIR) +
+                                                               "/examples/corridor")) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("study_", 0) != 0) continue;
+    SCOPED_TRACE(name);
+    const CorridorFile f = load_corridor(entry.path().string());
+    ASSERT_TRUE(f.camera.has_value());
+    EXPECT_FALSE(f.corridor == default_corridor() && *f.camera == default_pose());
+    EXPECT_LT(f.camera->x_m + 40.0, f.corridor.x_end_m());
+    EXPECT_LT(std::abs(f.camera->y_m) + 0.8, 0.5 * f.corridor.width_m);
+    ++n;
+  }
+  EXPECT_GE(n, 15);
+}
+
 TEST(CorridorFile, RoundTripsExactly) {
   CorridorFile file{default_corridor(), default_pose()};
   file.corridor.far_end_open = true;

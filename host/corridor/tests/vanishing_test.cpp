@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -161,19 +162,27 @@ std::vector<ImageLine> axis_lines(const CameraConfig& cam, const gc::Pose& p) {
   return out;
 }
 
-std::vector<ImageLine> cross_lines(const CameraConfig& cam, const gc::Pose& p) {
+// The image line of the world segment a-b seen from p, its strength the
+// segment's image length; nullopt when an end is behind the camera.
+std::optional<ImageLine> image_of_segment(const CameraConfig& cam, const gc::Pose& p,
+                                          const Eigen::Vector3d& a_w, const Eigen::Vector3d& b_w) {
   const Eigen::Matrix3d r = golden::world_to_camera_rotation(p.pan_rad, p.tilt_rad, p.swing_rad);
   const Eigen::Vector3d centre(p.x_m, p.y_m, p.height_m);
   Eigen::Matrix3d k;
   k << cam.fx(), 0.0, cam.cx(), 0.0, cam.fy(), cam.cy(), 0.0, 0.0, 1.0;
+  const Eigen::Vector3d a = k * r * (a_w - centre);
+  const Eigen::Vector3d b = k * r * (b_w - centre);
+  if (a.z() <= 0.0 || b.z() <= 0.0) return std::nullopt;
+  const double len = (a.head<2>() / a.z() - b.head<2>() / b.z()).norm();
+  return line_from_homogeneous(a.cross(b), len);
+}
+
+std::vector<ImageLine> cross_lines(const CameraConfig& cam, const gc::Pose& p) {
   std::vector<ImageLine> out;
   for (int i = 0; i < 8; ++i) {
     const double x = 0.3 + 0.6 * (i + 2);
-    const Eigen::Vector3d a = k * r * (Eigen::Vector3d(x, 1.2, 2.8) - centre);
-    const Eigen::Vector3d b = k * r * (Eigen::Vector3d(x, -1.2, 2.8) - centre);
-    if (a.z() <= 0.0 || b.z() <= 0.0) continue;
-    const double len = (a.head<2>() / a.z() - b.head<2>() / b.z()).norm();
-    out.push_back(line_from_homogeneous(a.cross(b), len));
+    const std::optional<ImageLine> l = image_of_segment(cam, p, {x, 1.2, 2.8}, {x, -1.2, 2.8});
+    if (l) out.push_back(*l);
   }
   return out;
 }
@@ -264,6 +273,49 @@ TEST(Vanishing, StatusNotFound) {
     if (estimate_pan(r, cam, m, 0.0).status != PanStatus::not_found) ++claimed;
   }
   EXPECT_EQ(claimed, 0);
+}
+
+// The axis point's strength share leaves out the lines through the vertical
+// vanishing point (door jambs, corners: fixed by the tilt and swing alone).
+// Four axis lines and four strong door jambs: found; the same four axis
+// lines and four equally strong lines through a point off both directions:
+// not found (they dilute the share below min_axis_support).
+TEST(Vanishing, VerticalEdgesDoNotDiluteTheAxisSupport) {
+  const CameraConfig cam = camera(500.0);
+  const gc::Pose p = pose(8.0, 35.0, 0.0);
+  const CameraMount m = mount_of(p);
+  std::vector<ImageLine> axis = axis_lines(cam, p);
+  ASSERT_GE(axis.size(), 4u);
+  axis.resize(4);
+  double axis_strength = 0.0;
+  for (const ImageLine& l : axis) axis_strength += l.strength;
+  // Door jambs: vertical segments on the left wall (y = 1.2) 2-6 m ahead.
+  std::vector<ImageLine> jambs;
+  for (int i = 0; i < 4; ++i) {
+    const double x = 2.0 + 1.3 * i;
+    std::optional<ImageLine> l = image_of_segment(cam, p, {x, 1.2, 0.5}, {x, 1.2, 2.0});
+    ASSERT_TRUE(l.has_value());
+    l->strength = axis_strength / 4.0;
+    jambs.push_back(*l);
+  }
+  std::vector<ImageLine> with_jambs = axis;
+  with_jambs.insert(with_jambs.end(), jambs.begin(), jambs.end());
+  const PanEstimate e = estimate_pan(with_jambs, cam, m, p.pan_rad);
+  EXPECT_NE(e.status, PanStatus::not_found);
+  EXPECT_NEAR(e.pan_rad, p.pan_rad, 1e-6);
+  EXPECT_EQ(e.axis.inliers.size(), 4u);
+  EXPECT_NEAR(e.axis.support, 1.0, 1e-9);
+  // The same jambs turned about their image midpoints by 20 deg: they no
+  // longer pass through the vertical point and count against the axis.
+  std::vector<ImageLine> with_others = axis;
+  for (const ImageLine& j : jambs) {
+    const Eigen::Vector2d mid =
+        j.rho_px * Eigen::Vector2d(std::cos(j.theta_rad), std::sin(j.theta_rad));
+    const double t = j.theta_rad + 20.0 * kDeg;
+    with_others.push_back(line_from_homogeneous(
+        {std::cos(t), std::sin(t), -(mid.x() * std::cos(t) + mid.y() * std::sin(t))}, j.strength));
+  }
+  EXPECT_EQ(estimate_pan(with_others, cam, m, p.pan_rad).status, PanStatus::not_found);
 }
 
 // The two estimates with the same line noise (theta 0.15 deg, rho 0.5 px on
