@@ -152,6 +152,42 @@ TEST(LateralShift, PriorResolvesThePeriodicAmbiguity) {
   EXPECT_NEAR(lateral_shift(lines, 0.0, seams, o).shift_m, 0.0, 1e-9);
 }
 
+// The score: one unit per matched line against ((s - prior) / sigma)^2 / 2.
+// A model of lines at y = 0, 0.15, 0.30, 0.45 and the lines at 0, 0.15,
+// 0.45 seen from y = 0.15: the true shift 0.15 matches all three, a shift of
+// 0 (the 0.15 m step onto the neighbouring lines) two. A prior at 0 with
+// sigma 5 cm costs the true shift 4.5 units and the two matches at the prior
+// win; with sigma 0.3 m it costs 0.125 and the true shift wins.
+TEST(LateralShift, ThePriorWeighsAgainstTheMatchCount) {
+  const CorridorModel m = centre_model(0.0, 0.0, 1);
+  const double h = m.lines.front().height_m;
+  CorridorModel four = m;
+  four.lines.clear();
+  for (double y : {0.45, 0.30, 0.15, 0.0}) {
+    ModelLine l = m.lines.front();
+    l.inclination = y / h;
+    l.line = line_of_inclination(l.inclination, m.camera, m.pan_rad, 100.0);
+    four.lines.push_back(l);
+  }
+  std::vector<ImageLine> lines;
+  for (double y : {0.0, 0.15, 0.45}) {
+    lines.push_back(line_of_inclination((y - 0.15) / h, four.camera, 0.0, 100.0));
+  }
+  ShiftOptions o;
+  o.match_tolerance_m = 0.02;
+  o.prior_m = 0.0;
+  o.prior_sigma_m = 0.3;
+  const LateralShift wide = lateral_shift(lines, 0.0, four, o);
+  ASSERT_TRUE(wide.valid);
+  EXPECT_NEAR(wide.shift_m, 0.15, 1e-9);
+  EXPECT_EQ(wide.matches.size(), 3u);
+  o.prior_sigma_m = 0.05;
+  const LateralShift tight = lateral_shift(lines, 0.0, four, o);
+  ASSERT_TRUE(tight.valid);
+  EXPECT_NEAR(tight.shift_m, 0.0, 1e-9);
+  EXPECT_EQ(tight.matches.size(), 2u);
+}
+
 // The reported sigma is the scatter's: Monte Carlo with an exact model.
 TEST(LateralShift, SigmaMatchesTheScatter) {
   const CorridorModel model = centre_model(0.0, 0.0, 1);
