@@ -1,0 +1,37 @@
+// Golden reference of the major orientation of a whole image (seed 004's
+// FindOrientation): the 3 x 3 Sobel gradient of every interior pixel
+// (cv::Sobel, as golden::find_edges_ref's Sobel mode), its angle and length
+// (cv::cartToPolar, degrees), the angle folded modulo 90 degrees (a ceiling's
+// structures are mostly perpendicular: the four directions of a grid vote
+// together) and voted into `bins` equal bins weighted by the length; then
+// the peak, interpolated on the circular histogram. Floating point: the
+// reference of the orientation block's fixed-point histogram
+// (docs/homing.md, "Orientation").
+//
+// Angles are the image's: atan2(gy, gx) with u right and v down, so
+// positive angles turn clockwise on the screen.
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace ceilnav::golden {
+
+struct OrientationParams {
+  int bins = 90;                // over [0, 90) degrees: 1 degree each
+  double min_magnitude = 16.0;  // gradients of this length or less do not vote (noise)
+};
+
+// grey: CV_8UC1, at least 3 x 3. Bin k holds the summed length of the
+// gradients whose folded angle rounds to k x 90 / bins degrees (bin 0 also
+// takes the angles that round to 90).
+// Throws std::invalid_argument on a bad image or parameters.
+std::vector<double> orientation_histogram_ref(const cv::Mat& grey, const OrientationParams& p = {});
+
+// The peak of a folded histogram: the largest bin (ties: the lowest), refined
+// to the centroid of it and the two bins on each side (circular), in degrees
+// in [-45, 45) (the seed's gamma'); NaN for an empty histogram.
+double major_orientation_deg(const std::vector<double>& histogram);
+
+}  // namespace ceilnav::golden
