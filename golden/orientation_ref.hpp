@@ -3,8 +3,8 @@
 // (cv::Sobel, as golden::find_edges_ref's Sobel mode), its angle and length
 // (cv::cartToPolar, degrees), the angle folded modulo 90 degrees (a ceiling's
 // structures are mostly perpendicular: the four directions of a grid vote
-// together) and voted into `bins` equal bins weighted by the length; then
-// the peak, interpolated on the circular histogram. Floating point: the
+// together) and voted into `bins` equal bins weighted by the length. Its
+// peak is the host's (host/homing/orientation.hpp). Floating point: the
 // reference of the orientation block's fixed-point histogram
 // (docs/homing.md, "Orientation").
 //
@@ -28,10 +28,5 @@ struct OrientationParams {
 // takes the angles that round to 90).
 // Throws std::invalid_argument on a bad image or parameters.
 std::vector<double> orientation_histogram_ref(const cv::Mat& grey, const OrientationParams& p = {});
-
-// The peak of a folded histogram: the largest bin (ties: the lowest), refined
-// to the centroid of it and the two bins on each side (circular), in degrees
-// in [-45, 45) (the seed's gamma'); NaN for an empty histogram.
-double major_orientation_deg(const std::vector<double>& histogram);
 
 }  // namespace ceilnav::golden

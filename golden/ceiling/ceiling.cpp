@@ -224,8 +224,7 @@ Ceiling office_ceiling() {
       c.lamps.push_back(l);
     }
   }
-  // Square grilles in some tiles, and one turned diffuser: the asymmetry
-  // that tells the 90-degree turns of the grid apart.
+  // Square grilles in some tiles, and one turned diffuser.
   for (const auto& [x, y] : {std::pair{1.5, 0.3}, {-3.3, -0.3}, {6.3, 0.9}, {-7.5, 0.3}}) {
     Vent v;
     v.rect = {x, y, 0.55, 0.55, 0.0};
@@ -236,6 +235,11 @@ Ceiling office_ceiling() {
   round.slats = 5;
   c.vents.push_back(round);
   for (int i = -5; i <= 5; ++i) c.spots.push_back({1.8 * i + 0.9, 0.0, 0.035, 0.25});
+  // Smoke detectors off the tile centres, one beside each square grille:
+  // what makes a patch around a grille read the same at no other turn.
+  for (const auto& [x, y] : {std::pair{1.83, 0.11}, {-2.97, -0.5}, {6.0, 1.24}, {-7.2, -0.04}}) {
+    c.spots.push_back({x, y, 0.07, 0.3});
+  }
   return c;
 }
 

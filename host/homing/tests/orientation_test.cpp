@@ -1,15 +1,21 @@
-// The golden major orientation: synthetic gratings at known angles (the
-// peak within 0.1 deg, the four directions of a grid in one bin), the
-// folding and the circular interpolation across 0 / 90 deg, and bad input.
+// The major orientation (golden::orientation_histogram_ref's histogram, the
+// host's peak): synthetic gratings at known angles, the four directions of
+// a grid in one bin, the folding and the circular interpolation across
+// 0 / 90 deg, the histogram's bins, and bad input.
+#include "host/homing/orientation.hpp"
+
 #include "golden/orientation_ref.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-namespace ceilnav::golden {
+namespace ceilnav::host::homing {
+using golden::orientation_histogram_ref;
+using golden::OrientationParams;
 namespace {
 
 // A smooth grating whose intensity varies along the direction `deg` (image
@@ -66,6 +72,21 @@ TEST(OrientationRef, AGridVotesItsFourDirectionsTogether) {
   EXPECT_NEAR(major_orientation_deg(orientation_histogram_ref(grating(107.0))), 17.0, 0.2);
 }
 
+// A grating at exactly 30 deg: the peak in bin 30 (bins centred on whole
+// degrees) and 90 % of the votes within a bin of it (the 3 x 3 Sobel's
+// angle varies along the grating's phase), nothing at or below the
+// magnitude floor.
+TEST(OrientationRef, BinsAreCentredOnTheirAngle) {
+  const std::vector<double> h = orientation_histogram_ref(grating(30.0, 41.0));
+  double total = 0.0;
+  for (double v : h) total += v;
+  EXPECT_EQ(std::max_element(h.begin(), h.end()) - h.begin(), 30);
+  EXPECT_GT((h[29] + h[30] + h[31]) / total, 0.9);
+  OrientationParams high;
+  high.min_magnitude = 1e6;
+  for (double v : orientation_histogram_ref(grating(30.0), high)) EXPECT_EQ(v, 0.0);
+}
+
 TEST(OrientationRef, InterpolationWrapsAcrossTheFold) {
   std::vector<double> h(90, 0.0);
   h[89] = 10.0;
@@ -74,6 +95,8 @@ TEST(OrientationRef, InterpolationWrapsAcrossTheFold) {
   h[88] = 1.0;
   EXPECT_NEAR(major_orientation_deg(h), -0.5, 1e-9);
   EXPECT_TRUE(std::isnan(major_orientation_deg(std::vector<double>(90, 0.0))));
+  EXPECT_NEAR(orientation_difference_deg(40.0, -40.0), -10.0, 1e-12);
+  EXPECT_NEAR(orientation_difference_deg(-44.0, 44.0), 2.0, 1e-12);
   EXPECT_THROW(orientation_histogram_ref(cv::Mat(2, 2, CV_8UC1, cv::Scalar(0))),
                std::invalid_argument);
   OrientationParams bad;
@@ -82,4 +105,4 @@ TEST(OrientationRef, InterpolationWrapsAcrossTheFold) {
 }
 
 }  // namespace
-}  // namespace ceilnav::golden
+}  // namespace ceilnav::host::homing
