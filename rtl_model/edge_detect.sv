@@ -4,7 +4,9 @@
 // difference |p(x,y) - p(x,y-1)| or its 3x3 Sobel magnitude |gx| + |gy|
 // (interior window centres) exceeds a threshold; every edge point becomes
 // one beat of m_axis_edges through a FIFO (run_fifo), with one trailer beat
-// per frame. Cycle model: stream/edge.{hpp,cpp}; spec: docs/blocks/edge.md.
+// per frame. The edge test's result is staged for one edge before the FIFO
+// admission (the event stage: the Sobel magnitude and the admission in
+// separate cycles). Cycle model: stream/edge.{hpp,cpp}; spec: docs/blocks/edge.md.
 //
 // Inputs are assumed legal as frame_check/thresh_lut make them (the C++ model
 // throws otherwise): pix.x/pix.y equal the block's own position counters, and
@@ -49,7 +51,7 @@ module edge_detect #(
   output logic [TdataBits-1:0] m_axis_edges_tdata_o,
 
   output logic                 done_o,  // one-cycle pulse: the stats were just updated
-  output logic                 pending_o,  // an edge point or trailer is staged, not yet in the FIFO
+  output logic                 pending_o,  // an edge point or a trailer staged for the FIFO
   output ceilnav_pkg::word_t   edges_emitted_o,  // last completed frame
   output ceilnav_pkg::word_t   edges_dropped_o,
   output logic [CountBits-1:0] fifo_occupancy_o,
@@ -151,7 +153,7 @@ module edge_detect #(
   // 3x3 window. Of columns x-2 and x-1 the block keeps what this pixel's
   // tests need, summed ahead on the edges that took those columns; the column
   // of this pixel is {r2, r1, p} (rows y-2, y-1, y):
-  //   w1_top_q, w1_bot_q  p(x-1, y-2), p(x-1, y) (the latter the horizontal difference's left pixel)
+  //   w1_top_q, w1_bot_q  p(x-1, y-2), p(x-1, y) (the horizontal difference's left pixel)
   //   s1_q, s2_q          t + 2 m + b of columns x-1, x-2
   //   dy_q                (b0 + 2 b1) - (t0 + 2 t1) of columns x-2 (0), x-1 (1)
   ceilnav_pkg::pixel_t w1_top_q, w1_bot_q;
@@ -178,9 +180,6 @@ module edge_detect #(
                                                 ceilnav_pkg::pixel_t c);
     sum121 = SumBits'(a) + SumBits'({b, 1'b0}) + SumBits'(c);
   endfunction
-  function automatic logic [SumBits-1:0] abs_g(logic [GBits-1:0] g);
-    abs_g = g[GBits-1] ? SumBits'(-g) : g[SumBits-1:0];
-  endfunction
   ceilnav_pkg::pixel_t sr1, sr2;  // r1, r2 without the bypass
   logic [GBits-1:0]    gx, gy, gx_early, gy_early;
   logic [SMagBits-1:0] sobel_mag;
@@ -191,7 +190,14 @@ module edge_detect #(
   assign gy_early    = dy_q + GBits'(p);
   assign gx          = GBits'(sr2) + GBits'({sr1, 1'b0}) + gx_early;
   assign gy          = gy_early - GBits'(sr2);
-  assign sobel_mag   = SMagBits'(abs_g(gx)) + SMagBits'(abs_g(gy));
+  // |gx|, |gy|: -gx, -gy are formed beside gx, gy from the same operands and
+  // the sign picks one (a mux after the adders instead of a negation).
+  logic [SumBits-1:0]  ngx, ngy, agx, agy;
+  assign ngx         = SumBits'((GBits'(0) - gx_early) - (GBits'(sr2) + GBits'({sr1, 1'b0})));
+  assign ngy         = SumBits'(GBits'(sr2) - gy_early);
+  assign agx         = gx[GBits-1] ? ngx : gx[SumBits-1:0];
+  assign agy         = gy[GBits-1] ? ngy : gy[SumBits-1:0];
+  assign sobel_mag   = SMagBits'(agx) + SMagBits'(agy);
   assign sobel_rises = ~gx[GBits-1] & (gx != '0);
   // The next pixel's dy_q: this column is its column 1, column x-1 its column 0.
   assign dy_d = GBits'(w1_bot_q) + GBits'({p, 1'b0}) - GBits'(w1_top_q) - GBits'({r2, 1'b0});
@@ -266,8 +272,10 @@ module edge_detect #(
   assign sticky_a  = a_req ? ~a_en : sticky_q;
   assign sticky_d  = t_req ? ~t_en : sticky_a;
 
+  // v saturated to 16 bits (an OR of the high bits, not a compare: the
+  // dropped count's path into the trailer is the admission's longest).
   function automatic logic [FieldBits-1:0] sat16(logic [CntBits-1:0] v);
-    sat16 = v > CntBits'({FieldBits{1'b1}}) ? {FieldBits{1'b1}} : v[FieldBits-1:0];
+    sat16 = |v[CntBits-1:FieldBits] ? {FieldBits{1'b1}} : v[FieldBits-1:0];
   endfunction
   logic [EntryBits-1:0] a_entry, e_entry, t_entry, slot0;
   assign a_entry = {1'b1, emitted_q, sat16(dropped_q), 1'b1, (dropped_q != '0) | sticky_q};
