@@ -4,7 +4,9 @@
 // difference |p(x,y) - p(x,y-1)| or its 3x3 Sobel magnitude |gx| + |gy|
 // (interior window centres) exceeds a threshold; every edge point becomes
 // one beat of m_axis_edges through a FIFO (run_fifo), with one trailer beat
-// per frame. Cycle model: stream/edge.{hpp,cpp}; spec: docs/blocks/edge.md.
+// per frame. The edge test's result is staged for one edge before the FIFO
+// admission (the event stage: the Sobel magnitude and the admission in
+// separate cycles). Cycle model: stream/edge.{hpp,cpp}; spec: docs/blocks/edge.md.
 //
 // Inputs are assumed legal as frame_check/thresh_lut make them (the C++ model
 // throws otherwise): pix.x/pix.y equal the block's own position counters, and
@@ -49,6 +51,7 @@ module edge_detect #(
   output logic [TdataBits-1:0] m_axis_edges_tdata_o,
 
   output logic                 done_o,  // one-cycle pulse: the stats were just updated
+  output logic                 pending_o,  // an edge point or a trailer staged for the FIFO
   output ceilnav_pkg::word_t   edges_emitted_o,  // last completed frame
   output ceilnav_pkg::word_t   edges_dropped_o,
   output logic [CountBits-1:0] fifo_occupancy_o,
@@ -147,9 +150,15 @@ module edge_detect #(
     lb_byp_data_q <= lb_wdata;
   end
 
-  // 3x3 window: columns x-2 (w2), x-1 (w1) as {top y-2, mid y-1, bot y}, and
-  // the column of this pixel {r2, r1, p}.
-  ceilnav_pkg::pixel_t w1_top_q, w1_mid_q, w1_bot_q, w2_top_q, w2_mid_q, w2_bot_q;
+  // 3x3 window. Of columns x-2 and x-1 the block keeps what this pixel's
+  // tests need, summed ahead on the edges that took those columns; the column
+  // of this pixel is {r2, r1, p} (rows y-2, y-1, y):
+  //   w1_top_q, w1_bot_q  p(x-1, y-2), p(x-1, y) (the horizontal difference's left pixel)
+  //   s1_q, s2_q          t + 2 m + b of columns x-1, x-2
+  //   dy_q                (b0 + 2 b1) - (t0 + 2 t1) of columns x-2 (0), x-1 (1)
+  ceilnav_pkg::pixel_t w1_top_q, w1_bot_q;
+  logic [SumBits-1:0]  s1_q, s2_q;
+  logic [GBits-1:0]    dy_q, dy_d;
 
   // ---------------------------------------------------------------------------
   // Differences. Horizontal / vertical: d = p - left / p - up.
@@ -160,22 +169,38 @@ module edge_detect #(
   assign diff_mag   = diff[DiffBits-1] ? PixelBits'(-diff) : diff[PixelBits-1:0];
   assign diff_rises = ~diff[DiffBits-1] & (diff != '0);
 
-  // Sobel on the window centred at (x-1, y-1):
-  //   gx = (t2 + 2 m2 + b2) - (t0 + 2 m0 + b0),  gy = (b0 + 2 b1 + b2) - (t0 + 2 t1 + t2).
+  // Sobel on the window centred at (x-1, y-1), columns 0 (x-2), 1, 2 (x):
+  //   gx = (t2 + 2 m2 + b2) - (t0 + 2 m0 + b0) = (r2 + 2 r1) + (p - s2_q),
+  //   gy = (b0 + 2 b1 + b2) - (t0 + 2 t1 + t2) = (dy_q + p) - r2.
+  // The line buffer's read data (the slow BRAM output) meets two adders for
+  // gx and one for gy; p - s2_q and dy_q + p are formed alongside. They take
+  // the read register itself, not the bypass: only a one-pixel-wide frame
+  // reads through the bypass, and it has no Sobel centre.
   function automatic logic [SumBits-1:0] sum121(ceilnav_pkg::pixel_t a, ceilnav_pkg::pixel_t b,
                                                 ceilnav_pkg::pixel_t c);
     sum121 = SumBits'(a) + SumBits'({b, 1'b0}) + SumBits'(c);
   endfunction
-  function automatic logic [SumBits-1:0] abs_g(logic [GBits-1:0] g);
-    abs_g = g[GBits-1] ? SumBits'(-g) : g[SumBits-1:0];
-  endfunction
-  logic [GBits-1:0]    gx, gy;
+  ceilnav_pkg::pixel_t sr1, sr2;  // r1, r2 without the bypass
+  logic [GBits-1:0]    gx, gy, gx_early, gy_early;
   logic [SMagBits-1:0] sobel_mag;
   logic                sobel_rises;
-  assign gx = GBits'(sum121(r2, r1, p)) - GBits'(sum121(w2_top_q, w2_mid_q, w2_bot_q));
-  assign gy = GBits'(sum121(w2_bot_q, w1_bot_q, p)) - GBits'(sum121(w2_top_q, w1_top_q, r2));
-  assign sobel_mag   = SMagBits'(abs_g(gx)) + SMagBits'(abs_g(gy));
+  assign sr1         = lb_rdata_q[PixelBits-1:0];
+  assign sr2         = lb_rdata_q[LbBits-1:PixelBits];
+  assign gx_early    = GBits'(p) - GBits'(s2_q);
+  assign gy_early    = dy_q + GBits'(p);
+  assign gx          = GBits'(sr2) + GBits'({sr1, 1'b0}) + gx_early;
+  assign gy          = gy_early - GBits'(sr2);
+  // |gx|, |gy|: -gx, -gy are formed beside gx, gy from the same operands and
+  // the sign picks one (a mux after the adders instead of a negation).
+  logic [SumBits-1:0]  ngx, ngy, agx, agy;
+  assign ngx         = SumBits'((GBits'(0) - gx_early) - (GBits'(sr2) + GBits'({sr1, 1'b0})));
+  assign ngy         = SumBits'(GBits'(sr2) - gy_early);
+  assign agx         = gx[GBits-1] ? ngx : gx[SumBits-1:0];
+  assign agy         = gy[GBits-1] ? ngy : gy[SumBits-1:0];
+  assign sobel_mag   = SMagBits'(agx) + SMagBits'(agy);
   assign sobel_rises = ~gx[GBits-1] & (gx != '0);
+  // The next pixel's dy_q: this column is its column 1, column x-1 its column 0.
+  assign dy_d = GBits'(w1_bot_q) + GBits'({p, 1'b0}) - GBits'(w1_top_q) - GBits'({r2, 1'b0});
 
   // The edge test. Sobel centres need x, y >= 2 (interior of the frame).
   logic                 in_range, is_sobel, hit;
@@ -197,40 +222,66 @@ module edge_detect #(
   assign kind  = is_sobel ? KindBits'(2) : KindBits'(mode == ModeV);
   assign ex    = is_sobel ? x - CoordBits'(1) : x;
   assign ey    = is_sobel ? y - CoordBits'(1) : y;
-  assign hit   = take & in_range & (mag > thresh);
+  // The threshold compare before the mode's choice (one compare per source).
+  assign hit   = take & in_range &
+                 (is_sobel ? ThreshBits'(sobel_mag) > thresh : ThreshBits'(diff_mag) > thresh);
 
   // ---------------------------------------------------------------------------
-  // Admission. Writes per edge: aborted-frame trailer (A) or edge (E) -- never
-  // both: A comes only with no pixel or an SOF pixel, which is no edge -- then
-  // the end-of-frame trailer (T); against the pre-edge occupancy n: A if
-  // n < depth, E if n + 1 < depth (one entry stays free for the trailer), T if
-  // n + A + E < depth.
+  // Event stage: what the pixel (or abort) sampled on edge n asks of the FIFO
+  // is registered on edge n and admitted on edge n + 1 (the Sobel magnitude
+  // and the threshold compare in one cycle, the admission and the counters
+  // in the next). The stage is never stalled: it holds the events of the
+  // last edge only, and the admission below is that of the events' own edge,
+  // one edge later.
+  logic                 ev_a_req_q, ev_hit_q, ev_t_req_q, ev_sof_q;
+  logic [MagField-1:0]  ev_mag_q;
+  logic                 ev_rises_q;
+  logic [KindBits-1:0]  ev_kind_q;
+  ceilnav_pkg::coord_t  ev_x_q, ev_y_q;
+  // The staged edge point's fields: a data pipeline qualified by ev_hit_q.
+  always_ff @(posedge clk_i) begin
+    ev_mag_q   <= mag;
+    ev_rises_q <= rises;
+    ev_kind_q  <= kind;
+    ev_x_q     <= ex;
+    ev_y_q     <= ey;
+  end
+
+  // ---------------------------------------------------------------------------
+  // Admission of the staged events. Writes per edge: aborted-frame trailer
+  // (A) or edge (E) -- never both: A comes only with no pixel or an SOF
+  // pixel, which is no edge -- then the end-of-frame trailer (T); against the
+  // pre-edge occupancy n: A if n < depth, E if n + 1 < depth (one entry stays
+  // free for the trailer), T if n + A + E < depth.
   logic [CountBits-1:0] count_q, count_d;  // FIFO entries, not counting the output register
   logic                 n_lt_d, n_lt_dm1;
   logic                 a_req, a_en, e_en, t_req, t_en, drop;
   assign n_lt_d   = ~count_q[CountBits-1];
   assign n_lt_dm1 = n_lt_d & ~(&count_q[CountBits-2:0]);
-  assign a_req    = s_lut_abort_i & frame_open_q;
+  assign a_req    = ev_a_req_q;
   assign a_en     = a_req & n_lt_d;
-  assign e_en     = hit & n_lt_dm1;
-  assign drop     = hit & ~n_lt_dm1;
-  assign t_req    = take & s_lut_eof_i;
+  assign e_en     = ev_hit_q & n_lt_dm1;
+  assign drop     = ev_hit_q & ~n_lt_dm1;
+  assign t_req    = ev_t_req_q;
   assign t_en     = t_req & (a_en | e_en ? n_lt_dm1 : n_lt_d);
 
   logic [CntBits-1:0] emitted_q, emitted_d, dropped_q, dropped_d;
   logic               sticky_q, sticky_a, sticky_d;
-  assign emitted_d = (sof_take ? '0 : emitted_q) + CntBits'(e_en);
-  assign dropped_d = (sof_take ? '0 : dropped_q) + CntBits'(drop);
+  assign emitted_d = (ev_sof_q ? '0 : emitted_q) + CntBits'(e_en);
+  assign dropped_d = (ev_sof_q ? '0 : dropped_q) + CntBits'(drop);
   assign sticky_a  = a_req ? ~a_en : sticky_q;
   assign sticky_d  = t_req ? ~t_en : sticky_a;
 
+  // v saturated to 16 bits (an OR of the high bits, not a compare: the
+  // dropped count's path into the trailer is the admission's longest).
   function automatic logic [FieldBits-1:0] sat16(logic [CntBits-1:0] v);
-    sat16 = v > CntBits'({FieldBits{1'b1}}) ? {FieldBits{1'b1}} : v[FieldBits-1:0];
+    sat16 = |v[CntBits-1:FieldBits] ? {FieldBits{1'b1}} : v[FieldBits-1:0];
   endfunction
   logic [EntryBits-1:0] a_entry, e_entry, t_entry, slot0;
   assign a_entry = {1'b1, emitted_q, sat16(dropped_q), 1'b1, (dropped_q != '0) | sticky_q};
   assign t_entry = {1'b1, emitted_d, sat16(dropped_d), 1'b0, (dropped_d != '0) | sticky_a};
-  assign e_entry = {1'b0, 1'b0, ey, ex, (BBits - MagField - 1 - KindBits)'(0), kind, rises, mag};
+  assign e_entry = {1'b0, 1'b0, ev_y_q, ev_x_q, (BBits - MagField - 1 - KindBits)'(0), ev_kind_q,
+                    ev_rises_q, ev_mag_q};
   assign slot0   = a_en ? a_entry : e_en ? e_entry : t_entry;
 
   logic [WrBits-1:0] n_writes;
@@ -282,11 +333,14 @@ module edge_detect #(
       thresh_q <= ThreshBits'(32);
       next_col_q <= '0;
       w1_top_q <= '0;
-      w1_mid_q <= '0;
       w1_bot_q <= '0;
-      w2_top_q <= '0;
-      w2_mid_q <= '0;
-      w2_bot_q <= '0;
+      s1_q <= '0;
+      s2_q <= '0;
+      dy_q <= '0;
+      ev_a_req_q <= 1'b0;
+      ev_hit_q <= 1'b0;
+      ev_t_req_q <= 1'b0;
+      ev_sof_q <= 1'b0;
       emitted_q <= '0;
       dropped_q <= '0;
       sticky_q <= 1'b0;
@@ -304,15 +358,18 @@ module edge_detect #(
         thresh_q <= cfg_threshold_i;
       end
       if (take) begin
-        w2_top_q <= w1_top_q;
-        w2_mid_q <= w1_mid_q;
-        w2_bot_q <= w1_bot_q;
         w1_top_q <= r2;
-        w1_mid_q <= r1;
         w1_bot_q <= p;
-        emitted_q <= emitted_d;
-        dropped_q <= dropped_d;
+        s2_q <= s1_q;
+        s1_q <= sum121(r2, r1, p);
+        dy_q <= dy_d;
       end
+      ev_a_req_q <= s_lut_abort_i & frame_open_q;
+      ev_hit_q <= hit;
+      ev_t_req_q <= take & s_lut_eof_i;
+      ev_sof_q <= sof_take;
+      emitted_q <= emitted_d;  // changes only with a staged edge or SOF
+      dropped_q <= dropped_d;
       sticky_q <= sticky_d;
       trailers_lost_q <= lost_sum[WordBits] ? {WordBits{1'b1}} : lost_sum[WordBits-1:0];
       if (t_req) begin
@@ -347,6 +404,7 @@ module edge_detect #(
   assign m_axis_edges_tlast_o  = out_valid_q & head_last;
   assign m_axis_edges_tdata_o  = {word1, word0} & {TdataBits{out_valid_q}};
   assign done_o           = done_q;
+  assign pending_o        = ev_a_req_q | ev_hit_q | ev_t_req_q;
   assign edges_emitted_o  = WordBits'(stat_emitted_q);
   assign edges_dropped_o  = WordBits'(stat_dropped_q);
   assign fifo_occupancy_o = count_q;

@@ -506,7 +506,7 @@ module pipeline #(
   if (HasCorridor) begin : g_corridor
     localparam int unsigned EdgeCfgBits = 1 + 2 + 12;
     logic [EdgeCfgBits-1:0] edge_cfg_shadow, edge_cfg_fc_q, edge_cfg_lut_q;
-    logic                   edge_tvalid, edge_tlast, hough_tready, edge_done;
+    logic                   edge_tvalid, edge_tlast, hough_tready, edge_done, edge_pending;
     logic [63:0]            edge_tdata;
     logic [EdgeCountBits-1:0] edge_occupancy;
     ceilnav_pkg::word_t     stalls_q;
@@ -554,6 +554,7 @@ module pipeline #(
       .m_axis_edges_tlast_o (edge_tlast),
       .m_axis_edges_tdata_o (edge_tdata),
       .done_o               (edge_done),
+      .pending_o            (edge_pending),
       .edges_emitted_o      (edge_count_o),
       .edges_dropped_o      (edge_dropped_o),
       .fifo_occupancy_o     (edge_occupancy),
@@ -597,7 +598,7 @@ module pipeline #(
     assign edge_fifo_level_o  = (EdgeCountBits + 1)'(edge_occupancy) +
                                 (EdgeCountBits + 1)'(edge_tvalid);
     // hough_state_o: 1 vote, 2 swap (ceilnav_pkg-free: hough's encoding)
-    assign corridor_pending_o = edge_tvalid | (edge_occupancy != '0) |
+    assign corridor_pending_o = edge_pending | edge_tvalid | (edge_occupancy != '0) |
                                 (hough_state_o == 2'd1) | (hough_state_o == 2'd2);
     assign hough_stalls_o     = stalls_q;
 

@@ -77,6 +77,7 @@ void EdgeDetector::reset() {
   y_q_ = 0;
   win1_q_ = {};
   win2_q_ = {};
+  stage_q_ = {};
   frame_q_ = {};
   stats_q_ = {};
   done_q_ = false;
@@ -104,7 +105,10 @@ void EdgeDetector::clock(const LutBeat& in, bool m_axis_edges_tready) {
     }
   }
 
-  Entry writes[2];  // at most two per edge: (aborted trailer | edge), trailer
+  // ---- Admission of the events staged on the last edge, against the
+  // pre-edge occupancy. At most two writes per edge: (aborted trailer |
+  // edge), trailer.
+  Entry writes[2];
   uint32_t n_writes = 0;
   bool done_d = false;
   EdgeStats frame_d = frame_q_;
@@ -123,41 +127,22 @@ void EdgeDetector::clock(const LutBeat& in, bool m_axis_edges_tready) {
     }
   };
 
-  const PixelBeat& pix = in.pix;
   // frame_check's early SOF (abort with the next SOF pixel) or a lone abort
   // closes the open frame first.
-  if (pix.abort && frame_open_q_) push_trailer(true);
-
-  const bool take = pix.valid && (pix.sof ? cfg_in_.enable : frame_open_q_);
-  if (take) {
-    if (pix.sof) {
-      cfg_q_ = cfg_in_;
-      frame_d = {};
+  if (stage_q_.abort) push_trailer(true);
+  if (stage_q_.sof) frame_d = {};
+  if (stage_q_.hit) {
+    if (fifo_count_q_ + n_writes + 1 < depth) {  // one entry stays free for the trailer
+      writes[n_writes++] = {false, pack_edge_beat(stage_q_.edge)};
+      ++frame_d.edges_emitted;
+    } else {
+      ++frame_d.edges_dropped;
     }
-    const uint32_t x = pix.sof ? 0u : x_q_;
-    const uint32_t y = pix.sof ? 0u : y_q_;
-    if (x != pix.x || y != pix.y) {
-      throw std::logic_error("EdgeDetector: pixel position differs from the counters");
-    }
-    const Column cur{line2_[x], line1_[x], in.remap};
-    const Window w{win2_q_.top, win2_q_.mid, win2_q_.bot, win1_q_.top, win1_q_.mid,
-                   win1_q_.bot, cur.top,     cur.mid,     cur.bot};
-    EdgeRecord e;
-    if (detect(cfg_q_.mode, cfg_q_.threshold, x, y, w, &e)) {
-      if (fifo_count_q_ + n_writes + 1 < depth) {  // one entry stays free for the trailer
-        writes[n_writes++] = {false, pack_edge_beat(e)};
-        ++frame_d.edges_emitted;
-      } else {
-        ++frame_d.edges_dropped;
-      }
-    }
-    line2_[x] = cur.mid;
-    line1_[x] = cur.bot;
-    win2_q_ = win1_q_;
-    win1_q_ = cur;
-    x_q_ = static_cast<uint16_t>(pix.eol ? 0u : x + 1);
-    y_q_ = static_cast<uint16_t>(pix.eol ? y + 1 : y);
-    if (pix.eof) push_trailer(false);
+  }
+  if (stage_q_.eof) {
+    push_trailer(false);
+    stats_q_ = frame_d;
+    done_d = true;
   }
 
   // ---- Commit the FIFO: writes at the tail (pre-edge), read at the head.
@@ -166,6 +151,37 @@ void EdgeDetector::clock(const LutBeat& in, bool m_axis_edges_tready) {
   }
   if (pop) fifo_head_q_ = (fifo_head_q_ + 1) % depth;
   fifo_count_q_ = fifo_count_q_ - (pop ? 1u : 0u) + n_writes;
+  frame_q_ = frame_d;
+  overflow_sticky_q_ = sticky_d;
+  out_q_ = out_d;
+  done_q_ = done_d;
+
+  // ---- The pixel: its edge test, staged for the next edge's admission.
+  const PixelBeat& pix = in.pix;
+  Stage stage_d{};
+  stage_d.abort = pix.abort && frame_open_q_;
+  const bool take = pix.valid && (pix.sof ? cfg_in_.enable : frame_open_q_);
+  if (take) {
+    if (pix.sof) cfg_q_ = cfg_in_;
+    const uint32_t x = pix.sof ? 0u : x_q_;
+    const uint32_t y = pix.sof ? 0u : y_q_;
+    if (x != pix.x || y != pix.y) {
+      throw std::logic_error("EdgeDetector: pixel position differs from the counters");
+    }
+    const Column cur{line2_[x], line1_[x], in.remap};
+    const Window w{win2_q_.top, win2_q_.mid, win2_q_.bot, win1_q_.top, win1_q_.mid,
+                   win1_q_.bot, cur.top,     cur.mid,     cur.bot};
+    stage_d.sof = pix.sof;
+    stage_d.hit = detect(cfg_q_.mode, cfg_q_.threshold, x, y, w, &stage_d.edge);
+    stage_d.eof = pix.eof;
+    line2_[x] = cur.mid;
+    line1_[x] = cur.bot;
+    win2_q_ = win1_q_;
+    win1_q_ = cur;
+    x_q_ = static_cast<uint16_t>(pix.eol ? 0u : x + 1);
+    y_q_ = static_cast<uint16_t>(pix.eol ? y + 1 : y);
+  }
+  stage_q_ = stage_d;
 
   if (pix.valid && pix.sof) {
     frame_open_q_ = take && !pix.eof;  // a disabled frame is not opened
@@ -174,14 +190,6 @@ void EdgeDetector::clock(const LutBeat& in, bool m_axis_edges_tready) {
   } else if (pix.abort) {
     frame_open_q_ = false;
   }
-  if (take && pix.eof) {
-    stats_q_ = frame_d;
-    done_d = true;
-  }
-  frame_q_ = frame_d;
-  overflow_sticky_q_ = sticky_d;
-  out_q_ = out_d;
-  done_q_ = done_d;
 }
 
 void EdgeDetector::scan_frame(const EdgeConfig& cfg, const uint8_t* remap, uint32_t width,

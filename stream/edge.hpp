@@ -54,6 +54,9 @@ class EdgeDetector {
   // Registered outputs.
   EdgeBeat m_axis_edges() const { return out_q_; }
   bool done() const { return done_q_; }  // one-cycle pulse: last_frame_stats() just updated
+  // The event stage holds an edge point or a trailer that the next edge
+  // admits to the FIFO (pending_o).
+  bool pending() const { return stage_q_.abort || stage_q_.hit || stage_q_.eof; }
   const EdgeStats& last_frame_stats() const { return stats_q_; }
   uint32_t fifo_occupancy() const { return fifo_count_q_; }  // memory entries in use
   uint32_t fifo_depth() const { return static_cast<uint32_t>(fifo_.size()); }
@@ -71,6 +74,14 @@ class EdgeDetector {
   struct Entry {
     bool last = false;
     uint64_t tdata = 0;
+  };
+  // The events of one edge's input, admitted to the FIFO on the next edge.
+  struct Stage {
+    bool abort = false;  // the open frame was aborted: its trailer
+    bool sof = false;    // a frame was taken: its counters restart
+    bool hit = false;    // the pixel is an edge point: `edge`
+    EdgeRecord edge{};
+    bool eof = false;  // the frame's last pixel: its trailer and counters
   };
   // One column of the 3x3 window: rows y-2, y-1, y.
   struct Column {
@@ -91,6 +102,7 @@ class EdgeDetector {
   std::vector<uint8_t> line1_;
   std::vector<uint8_t> line2_;
 
+  Stage stage_q_{};      // the event stage: the last edge's input, admitted on this one
   EdgeStats frame_q_{};  // counters of the open frame
   EdgeStats stats_q_{};  // latched at the last completed frame's EOF
   bool done_q_ = false;

@@ -58,8 +58,8 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready) {
 bool Pipeline::corridor_pending() const {
   if (!has_corridor_) return false;
   const Hough::State s = hough_.state();
-  return edge_.m_axis_edges().tvalid || edge_.fifo_occupancy() != 0 || s == Hough::State::kVote ||
-         s == Hough::State::kSwap;
+  return edge_.pending() || edge_.m_axis_edges().tvalid || edge_.fifo_occupancy() != 0 ||
+         s == Hough::State::kVote || s == Hough::State::kSwap;
 }
 
 void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, bool hist_rd_en,

@@ -108,8 +108,9 @@ class Pipeline {
   uint32_t hough_rd_data() const { return has_corridor_ ? hough_.rd_data() : 0u; }
   // One-cycle pulse: the hough block published a frame (its done).
   bool hough_done() const { return has_corridor_ && hough_.done(); }
-  // STATUS.HOUGH_PENDING: the edge FIFO or its output register holds
-  // entries, or the hough block votes an edge or publishes.
+  // STATUS.HOUGH_PENDING: the edge block holds an edge point or a trailer
+  // (staged for its FIFO, in the FIFO or its output register), or the hough
+  // block votes an edge or publishes.
   bool corridor_pending() const;
   // Live, saturating: cycles in which the edge block offered a beat the hough
   // block did not take (HOUGH_STALLS).

@@ -95,6 +95,7 @@ struct EdgePorts {
     ok = sim.check("m_axis_edges_tdata_o", d.m_axis_edges_tdata_o, out.tdata) && ok;
     const stream::EdgeStats& st = m.last_frame_stats();
     ok = sim.check("done_o", d.done_o, m.done()) && ok;
+    ok = sim.check("pending_o", d.pending_o, m.pending()) && ok;
     ok = sim.check("edges_emitted_o", d.edges_emitted_o, st.edges_emitted) && ok;
     ok = sim.check("edges_dropped_o", d.edges_dropped_o, st.edges_dropped) && ok;
     ok = sim.check("fifo_occupancy_o", d.fifo_occupancy_o, m.fifo_occupancy()) && ok;

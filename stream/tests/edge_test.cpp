@@ -89,7 +89,9 @@ Received run_clocked(EdgeDetector& d, const std::vector<LutBeat>& beats,
     d.clock(in, tready);
     rx.max_occupancy = std::max(rx.max_occupancy, d.fifo_occupancy());
     if (d.done()) rx.stats.push_back(d.last_frame_stats());
-    if (done_feeding && d.fifo_occupancy() == 0 && !d.m_axis_edges().tvalid) break;
+    if (done_feeding && !d.pending() && d.fifo_occupancy() == 0 && !d.m_axis_edges().tvalid) {
+      break;
+    }
   }
   EXPECT_TRUE(current.empty()) << "edges after the last trailer";
   return rx;
@@ -254,6 +256,14 @@ TEST(Edge, OverflowDropsCountsAndFlags) {
     d.clock(b, !stall);
     if (d.done()) stats.push_back(d.last_frame_stats());
   }
+  // The EOF pixel's edge and trailer are staged and admitted on the next
+  // edge, which also publishes the counters (done()).
+  EXPECT_TRUE(stats.empty());
+  EXPECT_TRUE(d.pending());
+  d.clock(LutBeat{}, !stall);
+  EXPECT_FALSE(d.pending());
+  ASSERT_TRUE(d.done());
+  stats.push_back(d.last_frame_stats());
   ASSERT_EQ(stats.size(), 1u);
   EXPECT_EQ(stats[0].edges_emitted, 8u);
   EXPECT_EQ(stats[0].edges_dropped, all.size() - 8);
@@ -263,6 +273,8 @@ TEST(Edge, OverflowDropsCountsAndFlags) {
   std::vector<LutBeat> tb;
   test::append_frame(tb, tiny, rng, 0.0);
   for (const LutBeat& b : tb) d.clock(b, false);
+  EXPECT_EQ(d.trailers_lost(), 0u);  // the EOF pixel's events are staged
+  d.clock(LutBeat{}, false);
   EXPECT_EQ(d.trailers_lost(), 1u);
   EXPECT_EQ(d.last_frame_stats(), (EdgeStats{0, 1}));
   // Drain, then a third frame: its trailer says overflow (the lost one).
