@@ -725,6 +725,14 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const CeilingScene& sc
   return image;
 }
 
+std::shared_ptr<const std::vector<PixelRay>> lens_pixel_rays(const host::CameraConfig& camera,
+                                                             bool distorted) {
+  host::CameraConfig lens = camera;
+  lens.camera_height_m = 0.0;
+  lens.ceiling_height_m = 1.0;
+  return pixel_rays(lens, distorted);
+}
+
 std::shared_ptr<const std::vector<PixelRay>> pixel_rays(const host::CameraConfig& camera,
                                                         bool distorted) {
   check_camera(camera);

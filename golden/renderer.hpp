@@ -54,6 +54,11 @@ struct PixelRay {
 // tape renderer). distorted = false: the pinhole rays K^-1 (u, v, 1).
 std::shared_ptr<const std::vector<PixelRay>> pixel_rays(const host::CameraConfig& camera,
                                                         bool distorted);
+// The same for a renderer whose scene has its own heights (the corridor, the
+// structured ceilings): only the camera's lens and image size count, its
+// camera and ceiling heights (which pixel_rays checks) are not looked at.
+std::shared_ptr<const std::vector<PixelRay>> lens_pixel_rays(const host::CameraConfig& camera,
+                                                             bool distorted);
 
 // The n x n jittered-stratified sub-pixel offsets (a[k], b[k] in [-0.5, 0.5))
 // that the tape renderer uses for pixel `pixel_index` (row-major index): a

@@ -23,15 +23,6 @@ void check_params(const RenderParams& p) {
   }
 }
 
-// pixel_rays checks the scene keys of the config; the ceiling has its own
-// heights.
-host::CameraConfig lens_only(const host::CameraConfig& camera) {
-  host::CameraConfig lens = camera;
-  lens.camera_height_m = 0.0;
-  lens.ceiling_height_m = 1.0;
-  return lens;
-}
-
 }  // namespace
 
 CameraView view_of(const Pose& pose) {
@@ -71,7 +62,7 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const Ceiling& ceiling
   const Eigen::Matrix3d to_world = view.world_to_camera.transpose();
   const double rise = ceiling.height_m - pose.height_m;
   const bool distorted = params.apply_distortion && camera.has_distortion();
-  const auto rays = golden::pixel_rays(lens_only(camera), distorted);
+  const auto rays = golden::lens_pixel_rays(camera, distorted);
   const int w = camera.image_width, h = camera.image_height, n = params.supersample;
   const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   std::vector<double> ja(cells), jb(cells);

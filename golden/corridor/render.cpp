@@ -274,15 +274,6 @@ void check_params(const RenderParams& p) {
   }
 }
 
-host::CameraConfig lens_only(const host::CameraConfig& camera) {
-  // pixel_rays checks the scene keys of the config too; the corridor has its
-  // own heights, so give it consistent ones.
-  host::CameraConfig lens = camera;
-  lens.camera_height_m = 0.0;
-  lens.ceiling_height_m = 1.0;
-  return lens;
-}
-
 }  // namespace
 
 cv::Mat render_radiance(const host::CameraConfig& camera, const Corridor& corridor,
@@ -300,7 +291,7 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const Corridor& corrid
   }
   const Scene scene = build_scene(corridor, view);
   const bool distorted = params.apply_distortion && camera.has_distortion();
-  const auto rays = pixel_rays(lens_only(camera), distorted);
+  const auto rays = lens_pixel_rays(camera, distorted);
   const int w = camera.image_width, h = camera.image_height, n = params.supersample;
   const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   std::vector<double> ja(cells), jb(cells);
