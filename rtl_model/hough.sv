@@ -74,6 +74,9 @@ module hough #(
   localparam int unsigned SumBits   = ceilnav_widths_pkg::HoughRhoSumBits;
   localparam int unsigned WBits     = ceilnav_widths_pkg::HoughWeightBits;
   localparam int unsigned CoordBits = ceilnav_pkg::CoordBits;
+  localparam int unsigned ProdBits  = CoordBits + 1 + 16;  // (x or y) x (cos or sin), signed
+  localparam int unsigned MaskLo    = Frac + RhoBits;  // < SumBits for RhoBits <= 12
+  localparam int unsigned MaskBits  = SumBits - MaskLo;
   localparam int unsigned CntBits   = 32;
   localparam int unsigned CntBits1  = CntBits + 1;
   localparam int unsigned AccBits1  = AccBits + 1;
@@ -118,9 +121,10 @@ module hough #(
   // Derived from the configuration when a frame opens: the rho bias
   // (W << 14) + 2^(13 + rho_shift) (W and half a bin, to round to the
   // nearest bin) and the mask of the sum bits at and above 2^(14 + rho_shift
-  // + RhoBits) (a sum with any of them set is past the last bin).
+  // + RhoBits) (a sum with any of them set is past the last bin), kept from
+  // bit MaskLo = 14 + RhoBits up (the bits below are never in it).
   logic signed [SumBits-1:0] bias_q;
-  logic [SumBits-1:0]        hi_mask_q;
+  logic [MaskBits-1:0]       hi_mask_q;
 
   // The theta range of the configuration inputs (used when a frame opens).
   logic [7:0] first_in, count_in, last_slot_in;
@@ -133,9 +137,10 @@ module hough #(
     last_slot_in = 8'((9'(count_in) + 9'(Lanes - 1)) / 9'(Lanes) - 9'd1);
   end
   logic signed [SumBits-1:0] bias_in;
-  logic [SumBits-1:0]        hi_mask_in;
-  assign bias_in    = SumBits'({cfg_width_i, Frac'(0)}) + (SumBits'(1) << (Frac - 1 + 32'(cfg_rho_shift_i)));
-  assign hi_mask_in = SumBits'(~((64'd1 << (Frac + RhoBits + 32'(cfg_rho_shift_i))) - 64'd1));
+  logic [MaskBits-1:0]       hi_mask_in;
+  assign bias_in    = SumBits'({cfg_width_i, Frac'(0)})
+                    + (SumBits'(1) << (Frac - 1 + 32'(cfg_rho_shift_i)));
+  assign hi_mask_in = MaskBits'(~((64'd1 << cfg_rho_shift_i) - 64'd1));
 
   logic ready, accept, open_now, en, bad_xy;
   logic [31:0] word0, word1;
@@ -185,32 +190,36 @@ module hough #(
     logic [8:0] j;
     logic [7:0] t;
     logic       t_act_q, m_act_q;
-    logic signed [15:0] t_cos_q, t_sin_q;
-    assign j = 9'(slot_q) * 9'(Lanes) + 9'(l);
-    assign t = 8'(9'(first_q) + j);
+    logic signed [15:0] cos_t, sin_t, t_cos_q, t_sin_q;
+    assign j     = 9'(slot_q) * 9'(Lanes) + 9'(l);
+    assign t     = 8'(9'(first_q) + j);
+    assign cos_t = trig_of(t, 1'b0);
+    assign sin_t = trig_of(t, 1'b1);
 
     // Stage M: the two products (the multipliers' output registers).
-    logic signed [SumBits-1:0] xs, ys, cs, ss, m_xc_q, m_ys_q;
-    assign xs = SumBits'(t_x_q);
-    assign ys = SumBits'(t_y_q);
-    assign cs = SumBits'(t_cos_q);
-    assign ss = SumBits'(t_sin_q);
+    // The product registers have the products' own width (no sign-extension
+    // bits: Yosys 0.23 leaves such bits undriven when it packs the register
+    // into an SB_MAC16); the sum sign-extends them.
+    logic signed [CoordBits:0]  xs, ys;
+    logic signed [ProdBits-1:0] m_xc_q, m_ys_q;
+    assign xs = {1'b0, t_x_q};
+    assign ys = {1'b0, t_y_q};
 
     // Stage R: the sum with the frame's bias, the rounding shift and the
     // range check (the bits at and above bin 2^RhoBits, the frame's mask).
-    logic signed [SumBits-1:0] sum;
+    logic signed [SumBits-1:0] rho_sum;
     logic [RhoBits-1:0] rho;
     logic in_range;
     addr_t r_addr_q;
-    assign sum      = m_xc_q + m_ys_q + bias_q;
-    assign rho      = RhoBits'($unsigned(sum) >> (Frac + 32'(rshift_q)));
-    assign in_range = !sum[SumBits-1] && ($unsigned(sum) & hi_mask_q) == '0;
+    assign rho_sum  = SumBits'(m_xc_q) + SumBits'(m_ys_q) + bias_q;
+    assign rho      = RhoBits'($unsigned(rho_sum) >> (Frac + 32'(rshift_q)));
+    assign in_range = !rho_sum[SumBits-1] && ~|(rho_sum[SumBits-1:MaskLo] & hi_mask_q);
 
     always_ff @(posedge clk_i) begin
-      t_cos_q  <= trig_of(t, 1'b0);
-      t_sin_q  <= trig_of(t, 1'b1);
-      m_xc_q   <= xs * cs;
-      m_ys_q   <= ys * ss;
+      t_cos_q  <= cos_t;
+      t_sin_q  <= sin_t;
+      m_xc_q   <= ProdBits'(xs) * ProdBits'(t_cos_q);
+      m_ys_q   <= ProdBits'(ys) * ProdBits'(t_sin_q);
       r_addr_q <= AddrBits'({m_slot_q, rho});
     end
 
