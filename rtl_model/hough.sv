@@ -156,12 +156,12 @@ module hough #(
   // Stage T (the slot cycle): the votes of slot slot_q of the held edge, one
   // per lane: which lanes are active and their table words. The stages after
   // it carry the slot as data, qualified by the valid bits t_valid_q,
-  // m_valid_q, r_valid_q (the slot's stage holds a slot) and, per lane, the
+  // m_valid_q, r_valid_q, b_valid_q (the stage holds a slot) and, per lane, the
   // activity / vote bits; the data registers have no reset.
   logic [WBits-1:0] weight;
   assign weight = unit_q ? WBits'(1) : WBits'((WBits'(y_q) + WBits'(1)) >> wshift_q);
 
-  logic                 t_valid_q, m_valid_q, r_valid_q;
+  logic                 t_valid_q, m_valid_q, r_valid_q, b_valid_q;
   logic [CoordBits-1:0] t_x_q, t_y_q;
   logic [SlotBits-1:0]  t_slot_q, m_slot_q;
   logic [WBits-1:0]     t_weight_q, m_weight_q, r_weight_q, b_weight_q;
@@ -180,7 +180,7 @@ module hough #(
 
   // Per lane: stages T, M, R of the vote, two BRAM banks (one write port, one
   // read port each) read in stage B and written in stage W.
-  logic [Lanes-1:0] r_vote_q, r_drop_q, b_vote_q, sat;
+  logic [Lanes-1:0] r_vote_q, r_drop_q, b_vote_q, w_sat_q;
   // BRAM read registers: bank b, lane l at [(b Lanes + l) AccBits +: AccBits]
   logic [2*Lanes*AccBits-1:0] bank_rd_q;
 
@@ -232,8 +232,8 @@ module hough #(
     assign old     = b_fwd_q ? last_q
                              : bank_rd_q[(32'(acc_q) * Lanes + l) * AccBits +: AccBits];
     assign acc_sum = {1'b0, old} + AccBits1'(b_weight_q);
-    assign sat[l]  = b_vote_q[l] && acc_sum > {1'b0, AccMax};
-    assign new_val = acc_sum > {1'b0, AccMax} ? AccMax : acc_sum[AccBits-1:0];
+    // acc_sum[AccBits] set: acc_sum > AccMax (the cell clips)
+    assign new_val = acc_sum[AccBits] ? AccMax : acc_sum[AccBits-1:0];
 
     for (genvar b = 0; b < 2; b++) begin : g_bank
       (* ram_style = "block" *) logic [AccBits-1:0] mem [Words];
@@ -267,6 +267,7 @@ module hough #(
         r_vote_q[l] <= 1'b0;
         r_drop_q[l] <= 1'b0;
         b_vote_q[l] <= 1'b0;
+        w_sat_q[l]  <= 1'b0;
         b_fwd_q     <= 1'b0;
         b_addr_q    <= '0;
         last_q      <= '0;
@@ -276,6 +277,7 @@ module hough #(
         r_vote_q[l] <= m_act_q && in_range;
         r_drop_q[l] <= m_act_q && !in_range;
         b_vote_q[l] <= r_vote_q[l];
+        w_sat_q[l]  <= b_vote_q[l] && acc_sum[AccBits];  // counted on the next edge
         b_fwd_q     <= r_vote_q[l] && b_vote_q[l] && b_addr_q == r_addr_q;
         b_addr_q    <= r_addr_q;
         if (b_vote_q[l]) begin
@@ -297,10 +299,11 @@ module hough #(
     b_weight_q <= r_weight_q;
   end
 
-  // The pipeline holds a slot whose write is still to come after this edge
-  // (stage B's write lands on this edge): SWAP waits for it.
+  // The pipeline holds a slot whose write or saturation count is still to
+  // come after this edge (stage R's drops and stage W's votes are counted on
+  // this edge, W's clipped votes on the next): SWAP waits for it.
   logic busy;
-  assign busy = t_valid_q | m_valid_q | r_valid_q;
+  assign busy = t_valid_q | m_valid_q | r_valid_q | b_valid_q;
 
   // ---------------------------------------------------------------------------
   // Counters of the open frame (next values), published on the SWAP edge.
@@ -322,7 +325,7 @@ module hough #(
 
   always_comb begin
     c_votes_d = sat_add(c_votes_q, popcount(b_vote_q));
-    c_sat_d   = sat_add(c_sat_q, popcount(sat));
+    c_sat_d   = sat_add(c_sat_q, popcount(w_sat_q));
     c_drop_d  = sat_add(c_drop_q, popcount(r_drop_q));
     c_edges_d = sat_add(c_edges_q, LaneCnt'(take_edge));
     c_bad_d   = sat_add(c_bad_q, LaneCnt'(take_bad));
@@ -372,6 +375,7 @@ module hough #(
       t_valid_q    <= 1'b0;
       m_valid_q    <= 1'b0;
       r_valid_q    <= 1'b0;
+      b_valid_q    <= 1'b0;
       bias_q       <= '0;
       hi_mask_q    <= '0;
       rd_en_q      <= 1'b0;
@@ -385,6 +389,7 @@ module hough #(
       t_valid_q   <= state_q == StVote;
       m_valid_q   <= t_valid_q;
       r_valid_q   <= m_valid_q;
+      b_valid_q   <= r_valid_q;
       rd_en_q     <= rd_ok;
       rd_bank_q   <= disp_q;
       rd_lane_q   <= rd_lane;

@@ -65,6 +65,7 @@ void Hough::reset() {
   x_q_ = 0;
   y_q_ = 0;
   slot_q_ = 0;
+  w_sat_q_ = 0;
   for (Slot* st : {&t_, &m_, &r_, &b_}) {
     *st = Slot{};
     st->lanes.assign(static_cast<size_t>(shape_.lanes), LaneVote{});
@@ -117,16 +118,16 @@ std::vector<uint32_t> Hough::results() const {
   return out;
 }
 
-void Hough::vote_into(int lane, uint32_t addr, uint32_t weight) {
+bool Hough::vote_into(int lane, uint32_t addr, uint32_t weight) {
   uint32_t& c = word(acc_q_, lane, addr);
   const uint64_t sum = uint64_t{c} + weight;
+  bump(cnt_.votes, 1);
   if (sum > shape_.acc_max()) {
     c = shape_.acc_max();
-    bump(cnt_.saturated, 1);
-  } else {
-    c = static_cast<uint32_t>(sum);
+    return true;
   }
-  bump(cnt_.votes, 1);
+  c = static_cast<uint32_t>(sum);
+  return false;
 }
 
 void Hough::clear_bank(int bank) {
@@ -144,12 +145,15 @@ void Hough::clock(const EdgeBeat& in, const HoughConfig& cfg, bool rd_en, uint32
   const State state = state_q_;
   const auto lanes = static_cast<size_t>(shape_.lanes);
 
-  // Stage W: the votes read in stage B on the previous edge are written;
-  // the drops leaving stage R are counted.
+  // Stage W: the votes read in stage B on the previous edge are written
+  // (their clipping counted on the next edge); the clips of the previous
+  // edge and the drops leaving stage R are counted.
+  bump(cnt_.saturated, w_sat_q_);
+  uint32_t w_sat_next = 0;
   if (b_.valid) {
     for (size_t l = 0; l < lanes; ++l) {
-      if (b_.lanes[l].vote) {
-        vote_into(static_cast<int>(l), b_.lanes[l].addr, b_.weight);
+      if (b_.lanes[l].vote && vote_into(static_cast<int>(l), b_.lanes[l].addr, b_.weight)) {
+        ++w_sat_next;
       }
     }
   }
@@ -262,14 +266,13 @@ void Hough::clock(const EdgeBeat& in, const HoughConfig& cfg, bool rd_en, uint32
   std::swap(r_, m_);
   std::swap(m_, t_);
   std::swap(t_, t_next);
+  w_sat_q_ = w_sat_next;
   rd_data_q_ = rd;
 }
 
 void Hough::process_frame(const std::vector<uint64_t>& edges, uint64_t trailer,
                           const HoughConfig& cfg) {
-  if (state_q_ == State::kVote || state_q_ == State::kSwap || busy() ||
-      (b_.valid &&
-       std::any_of(b_.lanes.begin(), b_.lanes.end(), [](const LaneVote& v) { return v.vote; }))) {
+  if (state_q_ == State::kVote || state_q_ == State::kSwap || busy() || w_sat_q_ != 0) {
     throw std::logic_error("Hough::process_frame: the block is busy");
   }
   if (state_q_ == State::kClear) {  // as the rest of the sweep would
@@ -310,7 +313,9 @@ void Hough::process_frame(const std::vector<uint64_t>& edges, uint64_t trailer,
       }
       const int lane = j & (shape_.lanes - 1);
       const auto slot = static_cast<uint32_t>(j >> shape_.lane_bits());
-      vote_into(lane, slot * shape_.rho_bins() + idx, w);
+      if (vote_into(lane, slot * shape_.rho_bins() + idx, w)) {
+        bump(cnt_.saturated, 1);
+      }
     }
   }
   // The trailer, the swap and the clear sweep of the new voting bank.

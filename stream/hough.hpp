@@ -47,10 +47,10 @@ class Hough {
   enum class State : uint8_t { kIdle = 0, kVote = 1, kSwap = 2, kClear = 3 };
 
   // Edges in kSwap when the trailer is accepted on the edge that issues the
-  // frame's last slot: that slot's votes pass stages T, M, R and B and are
-  // written on the fourth edge, which publishes (a trailer g idle cycles
-  // later: max(1, kSwapEdges - g)).
-  static constexpr int kSwapEdges = 4;
+  // frame's last slot: that slot's votes pass stages T, M, R and B, are
+  // written on the fourth edge and their clipping counted on the fifth, which
+  // publishes (a trailer g idle cycles later: max(1, kSwapEdges - g)).
+  static constexpr int kSwapEdges = 5;
 
   explicit Hough(const HoughShape& shape = HoughShape{});
 
@@ -98,8 +98,9 @@ class Hough {
     return mem_[static_cast<size_t>((bank * shape_.lanes + lane)) * shape_.lane_words() + addr];
   }
   uint32_t read_port(uint32_t rd_index) const;
-  // Stage W of one vote: the cell += weight, saturating; counts it.
-  void vote_into(int lane, uint32_t addr, uint32_t weight);
+  // Stage W of one vote: the cell += weight, saturating; counts it. Returns
+  // whether it clipped (counted by the caller).
+  bool vote_into(int lane, uint32_t addr, uint32_t weight);
   void clear_bank(int bank);
   static void bump(uint32_t& c, uint32_t n);
 
@@ -131,7 +132,8 @@ class Hough {
   // through t_, m_, r_ (the registers after T, M, R) and b_ (after B); it
   // counts the drops when they leave R and writes the votes when they leave
   // B, reading the memory as it is after the previous edge's write (the RTL
-  // forwards that write to its read of the same cell).
+  // forwards that write to its read of the same cell); the clipped votes of
+  // W are counted on the next edge (w_sat_q_, the RTL's registered flags).
   struct LaneVote {
     bool vote = false;
     bool drop = false;
@@ -143,8 +145,10 @@ class Hough {
     std::vector<LaneVote> lanes;
   };
   Slot t_, m_, r_, b_;
-  // The pipeline holds a slot whose write is still to come after this edge.
-  bool busy() const { return t_.valid || m_.valid || r_.valid; }
+  uint32_t w_sat_q_ = 0;  // votes stage W clipped on the previous edge
+  // The pipeline holds a slot whose write or clip count is still to come
+  // after this edge.
+  bool busy() const { return t_.valid || m_.valid || r_.valid || b_.valid; }
   // Counters of the open frame, and the published ones
   HoughCounters cnt_;
   HoughCounters pub_;

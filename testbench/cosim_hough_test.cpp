@@ -340,7 +340,7 @@ TEST(CosimHough, BackToBackFramesFullReadoutRacingVoting) {
       if (taken) ++i;
     }
     // SWAP until the publication edge (the vote pipeline writes the frame's
-    // last votes first: 4 edges after a trailer that follows the last slot,
+    // last votes first: 5 edges after a trailer that follows the last slot,
     // fewer after a gap); the next frame's reads start after it.
     do {
       bench.step(HoughCycle{.in = {}, .cfg = f.cfg});
