@@ -81,6 +81,7 @@ module hough #(
   localparam int unsigned CntBits1  = CntBits + 1;
   localparam int unsigned AccBits1  = AccBits + 1;
   localparam int unsigned LaneCnt   = $clog2(Lanes + 1);  // 0 .. Lanes
+  localparam int unsigned LaneBits  = $clog2(Lanes);
   // Largest cell value, 2^AccBits - 1 (a difference: Yosys 0.23 reads '1 here as 1)
   localparam logic [AccBits-1:0] AccMax = AccBits'((64'd1 << AccBits) - 64'd1);
 
@@ -126,15 +127,24 @@ module hough #(
   logic signed [SumBits-1:0] bias_q;
   logic [MaskBits-1:0]       hi_mask_q;
 
-  // The theta range of the configuration inputs (used when a frame opens).
-  logic [7:0] first_in, count_in, last_slot_in;
-  logic [8:0] avail_in;
+  // The theta range of the configuration inputs (used when a frame opens),
+  // from short parallel chains of the inputs: a first past the table is
+  // clamped to NTheta - 1 (its range is that one theta); else a count of 0 or
+  // past the end (count + first > NTheta) runs to the end. The last slot is
+  // (count - 1) / Lanes.
+  logic       clamp_in, to_end_in;
+  logic [8:0] end_in;
+  logic [7:0] first_in, count_in, last_slot_in, avail_in, avail_m1_in, count_m1_in;
   always_comb begin
-    first_in = cfg_theta_first_i > 8'(NTheta - 1) ? 8'(NTheta - 1) : cfg_theta_first_i;
-    avail_in = 9'(NTheta) - {1'b0, first_in};
-    count_in = (cfg_theta_count_i == 8'd0 || {1'b0, cfg_theta_count_i} > avail_in)
-             ? avail_in[7:0] : cfg_theta_count_i;
-    last_slot_in = 8'((9'(count_in) + 9'(Lanes - 1)) / 9'(Lanes) - 9'd1);
+    clamp_in     = cfg_theta_first_i > 8'(NTheta - 1);
+    end_in       = {1'b0, cfg_theta_count_i} + {1'b0, cfg_theta_first_i};
+    to_end_in    = cfg_theta_count_i == 8'd0 || end_in > 9'(NTheta);
+    avail_in     = 8'(NTheta) - cfg_theta_first_i;
+    avail_m1_in  = 8'(NTheta - 1) - cfg_theta_first_i;
+    count_m1_in  = cfg_theta_count_i - 8'd1;
+    first_in     = clamp_in ? 8'(NTheta - 1) : cfg_theta_first_i;
+    count_in     = clamp_in ? 8'd1 : to_end_in ? avail_in : cfg_theta_count_i;
+    last_slot_in = clamp_in ? 8'd0 : (to_end_in ? avail_m1_in : count_m1_in) >> LaneBits;
   end
   logic signed [SumBits-1:0] bias_in;
   logic [MaskBits-1:0]       hi_mask_in;
