@@ -200,20 +200,22 @@ module hough #(
     logic [8:0] j;
     logic [7:0] t;
     logic       t_act_q, m_act_q;
-    logic signed [15:0] cos_t, sin_t, t_cos_q, t_sin_q;
+    // sin >= 0 on [0, 180) degrees: the y product is unsigned.
+    logic signed [15:0] cos_t, t_cos_q;
+    logic [15:0]        sin_t, t_sin_q;
     assign j     = 9'(slot_q) * 9'(Lanes) + 9'(l);
     assign t     = 8'(9'(first_q) + j);
     assign cos_t = trig_of(t, 1'b0);
     assign sin_t = trig_of(t, 1'b1);
 
     // Stage M: the two products (the multipliers' output registers).
-    // The product registers have the products' own width (no sign-extension
+    // The product registers have the products' own width (no extension
     // bits: Yosys 0.23 leaves such bits undriven when it packs the register
-    // into an SB_MAC16); the sum sign-extends them.
-    logic signed [CoordBits:0]  xs, ys;
-    logic signed [ProdBits-1:0] m_xc_q, m_ys_q;
+    // into an SB_MAC16); the sum extends them.
+    logic signed [CoordBits:0]  xs;
+    logic signed [ProdBits-1:0] m_xc_q;
+    logic [ProdBits-2:0]        m_ys_q;
     assign xs = {1'b0, t_x_q};
-    assign ys = {1'b0, t_y_q};
 
     // Stage R: the sum with the frame's bias, the rounding shift and the
     // range check (the bits at and above bin 2^RhoBits, the frame's mask).
@@ -221,7 +223,7 @@ module hough #(
     logic [RhoBits-1:0] rho;
     logic in_range;
     addr_t r_addr_q;
-    assign rho_sum  = SumBits'(m_xc_q) + SumBits'(m_ys_q) + bias_q;
+    assign rho_sum  = SumBits'(m_xc_q) + $signed(SumBits'(m_ys_q)) + bias_q;
     assign rho      = RhoBits'($unsigned(rho_sum) >> (Frac + 32'(rshift_q)));
     assign in_range = !rho_sum[SumBits-1] && ~|(rho_sum[SumBits-1:MaskLo] & hi_mask_q);
 
@@ -229,7 +231,7 @@ module hough #(
       t_cos_q  <= cos_t;
       t_sin_q  <= sin_t;
       m_xc_q   <= ProdBits'(xs) * ProdBits'(t_cos_q);
-      m_ys_q   <= ProdBits'(ys) * ProdBits'(t_sin_q);
+      m_ys_q   <= (ProdBits - 1)'(t_y_q) * (ProdBits - 1)'(t_sin_q);
       r_addr_q <= AddrBits'({m_slot_q, rho});
     end
 
