@@ -208,8 +208,9 @@ TEST(Hough, ThroughputLatencyAndDoubleBuffer) {
     }
     // Trailer accepted on the edge that issues the last slot: SWAP until the
     // vote pipeline (stages T, M, R, B after the slot) writes that slot's
-    // votes, Hough::kSwapEdges edges; done after the last, then the clear
-    // sweep, then ready.
+    // votes and counts their clips, Hough::kSwapEdges (5) edges; done after
+    // the last, then the clear sweep, then ready.
+    EXPECT_EQ(Hough::kSwapEdges, 5);
     for (int k = 1; k < Hough::kSwapEdges; ++k) {
       EXPECT_FALSE(h.done());
       EXPECT_EQ(h.state(), Hough::State::kSwap);
