@@ -12,9 +12,9 @@
 // check), B (the BRAM read of the cell) and W (the saturating write), with
 // forwarding of the write to the read of the same cell on the same edge.
 // Two banks: the trailer publishes the voting bank (state SWAP, held until
-// the pipeline has written its last vote), the old result bank becomes the
-// voting bank and is cleared by a sweep (CLEAR, one word per lane per edge)
-// before the next edge is accepted.
+// the pipeline has written its last vote and counted its clips), the old
+// result bank becomes the voting bank and is cleared by a sweep (CLEAR, one
+// word per lane per edge) before the next edge is accepted.
 // Cycle-exact twin of stream/hough.cpp; see docs/blocks/hough.md.
 // In the device it sits in pipeline (HasCorridor); it also has its own
 // co-simulation (cosim_hough_test).
