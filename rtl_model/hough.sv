@@ -6,15 +6,18 @@
 // s1.14 cos/sin table of ceilnav_widths_pkg (fixedpoint/hough_trig.hpp).
 // theta cell j of the range goes to lane j mod Lanes, slot j / Lanes; each
 // lane has one BRAM per bank of Slots x 2^RhoBits cells, so an edge takes
-// ceil(count / Lanes) cycles (tready low meanwhile). Per lane the vote is a
-// pipelined read-modify-write: read on the issuing edge, saturating write on
-// the next one, with forwarding of the write to the read of the same cell on
-// the next edge. Two banks: the trailer publishes the voting bank (state
-// SWAP, one edge after the trailer so that its last write is in), the old
+// ceil(count / Lanes) cycles (tready low meanwhile). Per lane a vote runs
+// through a five-stage pipeline: T (the slot: the table words), M (the two
+// products), R (their sum with the frame's bias, the shift and the range
+// check), B (the BRAM read of the cell) and W (the saturating write), with
+// forwarding of the write to the read of the same cell on the same edge.
+// Two banks: the trailer publishes the voting bank (state SWAP, held until
+// the pipeline has written its last vote and counted its clips), the old
 // result bank becomes the voting bank and is cleared by a sweep (CLEAR, one
 // word per lane per edge) before the next edge is accepted.
 // Cycle-exact twin of stream/hough.cpp; see docs/blocks/hough.md.
-// Not part of ceilnav_top: a standalone block with its own co-simulation.
+// In the device it sits in pipeline (HasCorridor); it also has its own
+// co-simulation (cosim_hough_test).
 module hough #(
   parameter int unsigned Lanes     = 4,   // parallel theta lanes, a power of two
   parameter int unsigned ThetaStep = 4,   // degrees between thetas; divides 180
@@ -71,10 +74,14 @@ module hough #(
   localparam int unsigned SumBits   = ceilnav_widths_pkg::HoughRhoSumBits;
   localparam int unsigned WBits     = ceilnav_widths_pkg::HoughWeightBits;
   localparam int unsigned CoordBits = ceilnav_pkg::CoordBits;
+  localparam int unsigned ProdBits  = CoordBits + 1 + 16;  // (x or y) x (cos or sin), signed
+  localparam int unsigned MaskLo    = Frac + RhoBits;  // < SumBits for RhoBits <= 12
+  localparam int unsigned MaskBits  = SumBits - MaskLo;
   localparam int unsigned CntBits   = 32;
   localparam int unsigned CntBits1  = CntBits + 1;
   localparam int unsigned AccBits1  = AccBits + 1;
   localparam int unsigned LaneCnt   = $clog2(Lanes + 1);  // 0 .. Lanes
+  localparam int unsigned LaneBits  = $clog2(Lanes);
   // Largest cell value, 2^AccBits - 1 (a difference: Yosys 0.23 reads '1 here as 1)
   localparam logic [AccBits-1:0] AccMax = AccBits'((64'd1 << AccBits) - 64'd1);
 
@@ -110,20 +117,40 @@ module hough #(
   logic   unit_q;
   logic [3:0]  wshift_q;
   logic [2:0]  rshift_q;
-  logic [11:0] width_q;
   logic [7:0]  first_q, count_q, last_slot_q, slot_q;
   logic [CoordBits-1:0] x_q, y_q;
+  // Derived from the configuration when a frame opens: the rho bias
+  // (W << 14) + 2^(13 + rho_shift) (W and half a bin, to round to the
+  // nearest bin) and the mask of the sum bits at and above 2^(14 + rho_shift
+  // + RhoBits) (a sum with any of them set is past the last bin), kept from
+  // bit MaskLo = 14 + RhoBits up (the bits below are never in it).
+  logic signed [SumBits-1:0] bias_q;
+  logic [MaskBits-1:0]       hi_mask_q;
 
-  // The theta range of the configuration inputs (used when a frame opens).
-  logic [7:0] first_in, count_in, last_slot_in;
-  logic [8:0] avail_in;
+  // The theta range of the configuration inputs (used when a frame opens),
+  // from short parallel chains of the inputs: a first past the table is
+  // clamped to NTheta - 1 (its range is that one theta); else a count of 0 or
+  // past the end (count + first > NTheta) runs to the end. The last slot is
+  // (count - 1) / Lanes.
+  logic       clamp_in, to_end_in;
+  logic [8:0] end_in;
+  logic [7:0] first_in, count_in, last_slot_in, avail_in, avail_m1_in, count_m1_in;
   always_comb begin
-    first_in = cfg_theta_first_i > 8'(NTheta - 1) ? 8'(NTheta - 1) : cfg_theta_first_i;
-    avail_in = 9'(NTheta) - {1'b0, first_in};
-    count_in = (cfg_theta_count_i == 8'd0 || {1'b0, cfg_theta_count_i} > avail_in)
-             ? avail_in[7:0] : cfg_theta_count_i;
-    last_slot_in = 8'((9'(count_in) + 9'(Lanes - 1)) / 9'(Lanes) - 9'd1);
+    clamp_in     = cfg_theta_first_i > 8'(NTheta - 1);
+    end_in       = {1'b0, cfg_theta_count_i} + {1'b0, cfg_theta_first_i};
+    to_end_in    = cfg_theta_count_i == 8'd0 || end_in > 9'(NTheta);
+    avail_in     = 8'(NTheta) - cfg_theta_first_i;
+    avail_m1_in  = 8'(NTheta - 1) - cfg_theta_first_i;
+    count_m1_in  = cfg_theta_count_i - 8'd1;
+    first_in     = clamp_in ? 8'(NTheta - 1) : cfg_theta_first_i;
+    count_in     = clamp_in ? 8'd1 : to_end_in ? avail_in : cfg_theta_count_i;
+    last_slot_in = clamp_in ? 8'd0 : (to_end_in ? avail_m1_in : count_m1_in) >> LaneBits;
   end
+  logic signed [SumBits-1:0] bias_in;
+  logic [MaskBits-1:0]       hi_mask_in;
+  assign bias_in    = SumBits'({cfg_width_i, Frac'(0)})
+                    + (SumBits'(1) << (Frac - 1 + 32'(cfg_rho_shift_i)));
+  assign hi_mask_in = MaskBits'(~((64'd1 << cfg_rho_shift_i) - 64'd1));
 
   logic ready, accept, open_now, en, bad_xy;
   logic [31:0] word0, word1;
@@ -136,9 +163,18 @@ module hough #(
   assign bad_xy   = |word0[15:CoordBits] | |word0[31:16+CoordBits];
 
   // ---------------------------------------------------------------------------
-  // Stage 1: the votes of slot slot_q of the held edge, one per lane.
+  // Stage T (the slot cycle): the votes of slot slot_q of the held edge, one
+  // per lane: which lanes are active and their table words. The stages after
+  // it carry the slot as data, qualified by the valid bits t_valid_q,
+  // m_valid_q, r_valid_q, b_valid_q (the stage holds a slot) and, per lane, the
+  // activity / vote bits; the data registers have no reset.
   logic [WBits-1:0] weight;
   assign weight = unit_q ? WBits'(1) : WBits'((WBits'(y_q) + WBits'(1)) >> wshift_q);
+
+  logic                 t_valid_q, m_valid_q, r_valid_q, b_valid_q;
+  logic [CoordBits-1:0] t_x_q, t_y_q;
+  logic [SlotBits-1:0]  t_slot_q, m_slot_q;
+  logic [WBits-1:0]     t_weight_q, m_weight_q, r_weight_q, b_weight_q;
 
   // Host read
   logic [JBits-1:0]   rd_j;
@@ -152,48 +188,64 @@ module hough #(
   assign rd_lane = 32'(rd_j) % Lanes;
   assign rd_addr = AddrBits'({SlotBits'(32'(rd_j) / Lanes), rd_rho});
 
-  // Per lane: the vote of stage 1, two BRAM banks (one write port, one read
-  // port each) and stage 2 of the read-modify-write.
-  logic [Lanes-1:0] vote, drop, sat, s1_vote_q;
-  logic [WBits-1:0] s1_weight_q;
+  // Per lane: stages T, M, R of the vote, two BRAM banks (one write port, one
+  // read port each) read in stage B and written in stage W.
+  logic [Lanes-1:0] r_vote_q, r_drop_q, b_vote_q, w_sat_q;
   // BRAM read registers: bank b, lane l at [(b Lanes + l) AccBits +: AccBits]
   logic [2*Lanes*AccBits-1:0] bank_rd_q;
 
   for (genvar l = 0; l < Lanes; l++) begin : g_lane
-    // Stage 1: cell j of the range, theta index t = first + j.
+    // Stage T: cell j of the range, theta index t = first + j; registers the
+    // table words (the multipliers' input registers).
     logic [8:0] j;
     logic [7:0] t;
-    logic signed [SumBits-1:0] xs, ys, cs, ss, bias, sum;
-    logic [SumBits-1:0] shifted;
-    logic active, in_range;
-    addr_t vaddr;
-    assign j        = 9'(slot_q) * 9'(Lanes) + 9'(l);
-    assign active   = j < {1'b0, count_q};
-    assign t        = 8'(9'(first_q) + j);
-    assign xs       = SumBits'(x_q);
-    assign ys       = SumBits'(y_q);
-    assign cs       = SumBits'(trig_of(t, 1'b0));
-    assign ss       = SumBits'(trig_of(t, 1'b1));
-    // W << 14 and half a bin (round to the nearest bin)
-    assign bias     = SumBits'({width_q, Frac'(0)}) + (SumBits'(1) << (Frac - 1 + 32'(rshift_q)));
-    assign sum      = xs * cs + ys * ss + bias;
-    assign shifted  = $unsigned(sum) >> (Frac + 32'(rshift_q));
-    assign in_range = !sum[SumBits-1] && shifted < SumBits'(RhoBins);
-    assign vote[l]  = state_q == StVote && active && in_range;
-    assign drop[l]  = state_q == StVote && active && !in_range;
-    assign vaddr    = AddrBits'({slot_q[SlotBits-1:0], shifted[RhoBits-1:0]});
+    logic       t_act_q, m_act_q;
+    // sin >= 0 on [0, 180) degrees: the y product is unsigned.
+    logic signed [15:0] cos_t, t_cos_q;
+    logic [15:0]        sin_t, t_sin_q;
+    assign j     = 9'(slot_q) * 9'(Lanes) + 9'(l);
+    assign t     = 8'(9'(first_q) + j);
+    assign cos_t = trig_of(t, 1'b0);
+    assign sin_t = trig_of(t, 1'b1);
 
-    // Stage 2: the cell read on the previous edge (or the value this lane
-    // wrote on the previous edge, when the same cell was read then) + weight.
-    logic               s1_fwd_q;
-    addr_t              s1_addr_q;
+    // Stage M: the two products (the multipliers' output registers).
+    // The product registers have the products' own width (no extension
+    // bits: Yosys 0.23 leaves such bits undriven when it packs the register
+    // into an SB_MAC16); the sum extends them.
+    logic signed [CoordBits:0]  xs;
+    logic signed [ProdBits-1:0] m_xc_q;
+    logic [ProdBits-2:0]        m_ys_q;
+    assign xs = {1'b0, t_x_q};
+
+    // Stage R: the sum with the frame's bias, the rounding shift and the
+    // range check (the bits at and above bin 2^RhoBits, the frame's mask).
+    logic signed [SumBits-1:0] rho_sum;
+    logic [RhoBits-1:0] rho;
+    logic in_range;
+    addr_t r_addr_q;
+    assign rho_sum  = SumBits'(m_xc_q) + $signed(SumBits'(m_ys_q)) + bias_q;
+    assign rho      = RhoBits'($unsigned(rho_sum) >> (Frac + 32'(rshift_q)));
+    assign in_range = !rho_sum[SumBits-1] && ~|(rho_sum[SumBits-1:MaskLo] & hi_mask_q);
+
+    always_ff @(posedge clk_i) begin
+      t_cos_q  <= cos_t;
+      t_sin_q  <= sin_t;
+      m_xc_q   <= ProdBits'(xs) * ProdBits'(t_cos_q);
+      m_ys_q   <= (ProdBits - 1)'(t_y_q) * (ProdBits - 1)'(t_sin_q);
+      r_addr_q <= AddrBits'({m_slot_q, rho});
+    end
+
+    // Stage W: the cell read in stage B on the previous edge (or the value
+    // this lane wrote on that edge, when it wrote the cell read then) + weight.
+    logic               b_fwd_q;
+    addr_t              b_addr_q;
     logic [AccBits-1:0] last_q, old, new_val;
     logic [AccBits:0]   acc_sum;
-    assign old     = s1_fwd_q ? last_q
-                              : bank_rd_q[(32'(acc_q) * Lanes + l) * AccBits +: AccBits];
-    assign acc_sum = {1'b0, old} + AccBits1'(s1_weight_q);
-    assign sat[l]  = s1_vote_q[l] && acc_sum > {1'b0, AccMax};
-    assign new_val = acc_sum > {1'b0, AccMax} ? AccMax : acc_sum[AccBits-1:0];
+    assign old     = b_fwd_q ? last_q
+                             : bank_rd_q[(32'(acc_q) * Lanes + l) * AccBits +: AccBits];
+    assign acc_sum = {1'b0, old} + AccBits1'(b_weight_q);
+    // acc_sum[AccBits] set: acc_sum > AccMax (the cell clips)
+    assign new_val = acc_sum[AccBits] ? AccMax : acc_sum[AccBits-1:0];
 
     for (genvar b = 0; b < 2; b++) begin : g_bank
       (* ram_style = "block" *) logic [AccBits-1:0] mem [Words];
@@ -205,14 +257,14 @@ module hough #(
       logic  is_acc, rd_en, wr_en;
       addr_t raddr, waddr;
       assign is_acc = acc_q == 1'(b);
-      assign rd_en  = is_acc ? vote[l] : (rd_ok && rd_lane == l);
-      assign raddr  = is_acc ? vaddr : rd_addr;
+      assign rd_en  = is_acc ? r_vote_q[l] : (rd_ok && rd_lane == l);
+      assign raddr  = is_acc ? r_addr_q : rd_addr;
       // No write on an edge in reset (the registers may hold anything there).
-      assign wr_en  = rst_ni && is_acc && (s1_vote_q[l] || state_q == StClear);
-      assign waddr  = s1_vote_q[l] ? s1_addr_q : clr_ptr_q;
+      assign wr_en  = rst_ni && is_acc && (b_vote_q[l] || state_q == StClear);
+      assign waddr  = b_vote_q[l] ? b_addr_q : clr_ptr_q;
       always_ff @(posedge clk_i) begin
         if (wr_en) begin
-          mem[waddr] <= s1_vote_q[l] ? new_val : '0;
+          mem[waddr] <= b_vote_q[l] ? new_val : '0;
         end
         if (rd_en) begin
           bank_rd_q[(b * Lanes + l) * AccBits +: AccBits] <= mem[raddr];
@@ -222,20 +274,48 @@ module hough #(
 
     always_ff @(posedge clk_i) begin
       if (!rst_ni) begin
-        s1_vote_q[l] <= 1'b0;
-        s1_fwd_q     <= 1'b0;
-        s1_addr_q    <= '0;
-        last_q       <= '0;
+        t_act_q     <= 1'b0;
+        m_act_q     <= 1'b0;
+        r_vote_q[l] <= 1'b0;
+        r_drop_q[l] <= 1'b0;
+        b_vote_q[l] <= 1'b0;
+        w_sat_q[l]  <= 1'b0;
+        b_fwd_q     <= 1'b0;
+        b_addr_q    <= '0;
+        last_q      <= '0;
       end else begin
-        s1_vote_q[l] <= vote[l];
-        s1_fwd_q     <= vote[l] && s1_vote_q[l] && s1_addr_q == vaddr;
-        s1_addr_q    <= vaddr;
-        if (s1_vote_q[l]) begin
+        t_act_q     <= state_q == StVote && j < {1'b0, count_q};
+        m_act_q     <= t_act_q;
+        r_vote_q[l] <= m_act_q && in_range;
+        r_drop_q[l] <= m_act_q && !in_range;
+        b_vote_q[l] <= r_vote_q[l];
+        w_sat_q[l]  <= b_vote_q[l] && acc_sum[AccBits];  // counted on the next edge
+        b_fwd_q     <= r_vote_q[l] && b_vote_q[l] && b_addr_q == r_addr_q;
+        b_addr_q    <= r_addr_q;
+        if (b_vote_q[l]) begin
           last_q <= new_val;
         end
       end
     end
   end
+
+  // Shared data of the slot in flight (no reset: qualified by the valid bits).
+  always_ff @(posedge clk_i) begin
+    t_x_q      <= x_q;
+    t_y_q      <= y_q;
+    t_slot_q   <= slot_q[SlotBits-1:0];
+    m_slot_q   <= t_slot_q;
+    t_weight_q <= weight;
+    m_weight_q <= t_weight_q;
+    r_weight_q <= m_weight_q;
+    b_weight_q <= r_weight_q;
+  end
+
+  // The pipeline holds a slot whose write or saturation count is still to
+  // come after this edge (stage R's drops and stage W's votes are counted on
+  // this edge, W's clipped votes on the next): SWAP waits for it.
+  logic busy;
+  assign busy = t_valid_q | m_valid_q | r_valid_q | b_valid_q;
 
   // ---------------------------------------------------------------------------
   // Counters of the open frame (next values), published on the SWAP edge.
@@ -256,9 +336,9 @@ module hough #(
   assign take_bad     = accept && !s_axis_edges_tlast_i && en && bad_xy;
 
   always_comb begin
-    c_votes_d = sat_add(c_votes_q, popcount(s1_vote_q));
-    c_sat_d   = sat_add(c_sat_q, popcount(sat));
-    c_drop_d  = sat_add(c_drop_q, popcount(drop));
+    c_votes_d = sat_add(c_votes_q, popcount(b_vote_q));
+    c_sat_d   = sat_add(c_sat_q, popcount(w_sat_q));
+    c_drop_d  = sat_add(c_drop_q, popcount(r_drop_q));
     c_edges_d = sat_add(c_edges_q, LaneCnt'(take_edge));
     c_bad_d   = sat_add(c_bad_q, LaneCnt'(take_bad));
     c_tre_d   = take_trailer ? word0 : c_tre_q;
@@ -271,7 +351,7 @@ module hough #(
     next = state_q;
     case (state_q)
       StClear: if (clr_ptr_q == AddrBits'(Words - 1)) next = StIdle;
-      StSwap:  next = StClear;
+      StSwap:  if (!busy) next = StClear;
       StVote:  if (slot_q == last_slot_q) next = StIdle;
       default: ;
     endcase
@@ -298,14 +378,18 @@ module hough #(
       unit_q       <= 1'b0;
       wshift_q     <= '0;
       rshift_q     <= '0;
-      width_q      <= '0;
       first_q      <= '0;
       count_q      <= 8'd1;
       last_slot_q  <= '0;
       slot_q       <= '0;
       x_q          <= '0;
       y_q          <= '0;
-      s1_weight_q  <= '0;
+      t_valid_q    <= 1'b0;
+      m_valid_q    <= 1'b0;
+      r_valid_q    <= 1'b0;
+      b_valid_q    <= 1'b0;
+      bias_q       <= '0;
+      hi_mask_q    <= '0;
       rd_en_q      <= 1'b0;
       rd_bank_q    <= 1'b0;
       rd_lane_q    <= '0;
@@ -314,7 +398,10 @@ module hough #(
     end else begin
       state_q     <= next;
       done_q      <= 1'b0;
-      s1_weight_q <= weight;
+      t_valid_q   <= state_q == StVote;
+      m_valid_q   <= t_valid_q;
+      r_valid_q   <= m_valid_q;
+      b_valid_q   <= r_valid_q;
       rd_en_q     <= rd_ok;
       rd_bank_q   <= disp_q;
       rd_lane_q   <= rd_lane;
@@ -322,7 +409,7 @@ module hough #(
           {c_edges_d, c_bad_d, c_votes_d, c_drop_d, c_sat_d, c_tre_d, c_trf_d};
       case (state_q)
         StClear: clr_ptr_q <= clr_ptr_q == AddrBits'(Words - 1) ? '0 : clr_ptr_q + AddrBits'(1);
-        StSwap: begin
+        StSwap: if (!busy) begin
           {p_edges_q, p_bad_q, p_votes_q, p_drop_q, p_sat_q, p_tre_q, p_trf_q} <=
               {c_edges_d, c_bad_d, c_votes_d, c_drop_d, c_sat_d, c_tre_d, c_trf_d};
           {c_edges_q, c_bad_q, c_votes_q, c_drop_q, c_sat_q, c_tre_q, c_trf_q} <= '0;
@@ -341,7 +428,8 @@ module hough #(
         unit_q       <= cfg_unit_weight_i;
         wshift_q     <= cfg_weight_shift_i;
         rshift_q     <= cfg_rho_shift_i;
-        width_q      <= cfg_width_i;
+        bias_q       <= bias_in;
+        hi_mask_q    <= hi_mask_in;
         first_q      <= first_in;
         count_q      <= count_in;
         last_slot_q  <= last_slot_in;
@@ -374,7 +462,10 @@ module hough #(
 `ifndef SYNTHESIS
   // The sweep never runs while a vote is written.
   SweepDisjoint: assert property (@(posedge clk_i) disable iff (!rst_ni)
-      !(state_q == StClear && |s1_vote_q));
+      !(state_q == StClear && |b_vote_q));
+  // The pipeline is empty when the sweep starts (SWAP waited for it).
+  SweepAfterDrain: assert property (@(posedge clk_i) disable iff (!rst_ni)
+      !(state_q == StClear && busy));
   // The voting and the result banks differ.
   BanksDiffer: assert property (@(posedge clk_i) disable iff (!rst_ni) acc_q != disp_q);
 `endif

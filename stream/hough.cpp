@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "fixedpoint/hough_trig.hpp"
 
@@ -45,7 +46,6 @@ Hough::Hough(const HoughShape& shape) : shape_(shape) {
     throw std::invalid_argument("Hough: bad shape");
   }
   mem_.assign(static_cast<size_t>(2 * shape_.lanes) * shape_.lane_words(), 0u);
-  s1_.resize(static_cast<size_t>(shape_.lanes));
   reset();
 }
 
@@ -65,8 +65,11 @@ void Hough::reset() {
   x_q_ = 0;
   y_q_ = 0;
   slot_q_ = 0;
-  std::fill(s1_.begin(), s1_.end(), Stage1{});
-  s1_weight_q_ = 0;
+  w_sat_q_ = 0;
+  for (Slot* st : {&t_, &m_, &r_, &b_}) {
+    *st = Slot{};
+    st->lanes.assign(static_cast<size_t>(shape_.lanes), LaneVote{});
+  }
   cnt_ = {};
   pub_ = {};
   rd_data_q_ = 0;
@@ -115,16 +118,16 @@ std::vector<uint32_t> Hough::results() const {
   return out;
 }
 
-void Hough::vote_into(int lane, uint32_t addr, uint32_t weight) {
+bool Hough::vote_into(int lane, uint32_t addr, uint32_t weight) {
   uint32_t& c = word(acc_q_, lane, addr);
   const uint64_t sum = uint64_t{c} + weight;
+  bump(cnt_.votes, 1);
   if (sum > shape_.acc_max()) {
     c = shape_.acc_max();
-    bump(cnt_.saturated, 1);
-  } else {
-    c = static_cast<uint32_t>(sum);
+    return true;
   }
-  bump(cnt_.votes, 1);
+  c = static_cast<uint32_t>(sum);
+  return false;
 }
 
 void Hough::clear_bank(int bank) {
@@ -142,34 +145,46 @@ void Hough::clock(const EdgeBeat& in, const HoughConfig& cfg, bool rd_en, uint32
   const State state = state_q_;
   const auto lanes = static_cast<size_t>(shape_.lanes);
 
-  // Stage 2: the votes issued on the previous edge are written.
-  for (size_t l = 0; l < lanes; ++l) {
-    if (!s1_[l].vote) {
-      continue;
+  // Stage W: the votes read in stage B on the previous edge are written
+  // (their clipping counted on the next edge); the clips of the previous
+  // edge and the drops leaving stage R are counted.
+  bump(cnt_.saturated, w_sat_q_);
+  uint32_t w_sat_next = 0;
+  if (b_.valid) {
+    for (size_t l = 0; l < lanes; ++l) {
+      if (b_.lanes[l].vote && vote_into(static_cast<int>(l), b_.lanes[l].addr, b_.weight)) {
+        ++w_sat_next;
+      }
     }
-    vote_into(static_cast<int>(l), s1_[l].addr, s1_weight_q_);
   }
+  if (r_.valid) {
+    bump(cnt_.dropped,
+         static_cast<uint32_t>(std::count_if(r_.lanes.begin(), r_.lanes.end(),
+                                             [](const LaneVote& v) { return v.drop; })));
+  }
+  const bool pipe_busy = busy();
 
-  // Stage 1: in kVote, slot slot_q_ of the held edge issues one vote per lane.
-  std::vector<Stage1> s1_next(lanes);
+  // Stage T: in kVote, slot slot_q_ of the held edge issues one vote per lane.
+  Slot t_next;
+  t_next.lanes.assign(lanes, LaneVote{});
+  t_next.weight = hough_weight(cfg_q_, y_q_);
   if (state == State::kVote) {
-    uint32_t dropped = 0;
+    t_next.valid = true;
     for (size_t l = 0; l < lanes; ++l) {
       const int j = slot_q_ * shape_.lanes + static_cast<int>(l);
       if (j >= count_q_) {
         continue;
       }
       uint32_t idx = 0;
+      LaneVote& v = t_next.lanes[l];
       if (hough_rho_index(shape_, cfg_q_, x_q_, y_q_, (first_q_ + j) * shape_.theta_step, idx)) {
-        s1_next[l].vote = true;
-        s1_next[l].addr = static_cast<uint32_t>(slot_q_) * shape_.rho_bins() + idx;
+        v.vote = true;
+        v.addr = static_cast<uint32_t>(slot_q_) * shape_.rho_bins() + idx;
       } else {
-        ++dropped;
+        v.drop = true;
       }
     }
-    bump(cnt_.dropped, dropped);
   }
-  const uint32_t weight_next = hough_weight(cfg_q_, y_q_);
 
   done_q_ = false;
   State next = state;
@@ -186,7 +201,11 @@ void Hough::clock(const EdgeBeat& in, const HoughConfig& cfg, bool rd_en, uint32
       }
       break;
     case State::kSwap:
-      // The last vote of the frame was written on this edge (stage 2 above).
+      // Held until the last vote of the frame is written on this edge
+      // (stage W above).
+      if (pipe_busy) {
+        break;
+      }
       pub_ = cnt_;
       cnt_ = {};
       disp_q_ = acc_q_;
@@ -243,15 +262,17 @@ void Hough::clock(const EdgeBeat& in, const HoughConfig& cfg, bool rd_en, uint32
     }
   }
   state_q_ = next;
-  s1_ = s1_next;
-  s1_weight_q_ = weight_next;
+  std::swap(b_, r_);  // b_ = r_, r_ = m_, m_ = t_, t_ = t_next
+  std::swap(r_, m_);
+  std::swap(m_, t_);
+  std::swap(t_, t_next);
+  w_sat_q_ = w_sat_next;
   rd_data_q_ = rd;
 }
 
 void Hough::process_frame(const std::vector<uint64_t>& edges, uint64_t trailer,
                           const HoughConfig& cfg) {
-  if (state_q_ == State::kVote || state_q_ == State::kSwap ||
-      std::any_of(s1_.begin(), s1_.end(), [](const Stage1& s) { return s.vote; })) {
+  if (state_q_ == State::kVote || state_q_ == State::kSwap || busy() || w_sat_q_ != 0) {
     throw std::logic_error("Hough::process_frame: the block is busy");
   }
   if (state_q_ == State::kClear) {  // as the rest of the sweep would
@@ -284,7 +305,6 @@ void Hough::process_frame(const std::vector<uint64_t>& edges, uint64_t trailer,
     y_q_ = y;
     slot_q_ = last_slot_q_;
     const uint32_t w = hough_weight(cfg, y);
-    s1_weight_q_ = w;
     for (int j = 0; j < r.count; ++j) {
       uint32_t idx = 0;
       if (!hough_rho_index(shape_, cfg, x, y, (r.first + j) * shape_.theta_step, idx)) {
@@ -293,7 +313,9 @@ void Hough::process_frame(const std::vector<uint64_t>& edges, uint64_t trailer,
       }
       const int lane = j & (shape_.lanes - 1);
       const auto slot = static_cast<uint32_t>(j >> shape_.lane_bits());
-      vote_into(lane, slot * shape_.rho_bins() + idx, w);
+      if (vote_into(lane, slot * shape_.rho_bins() + idx, w)) {
+        bump(cnt_.saturated, 1);
+      }
     }
   }
   // The trailer, the swap and the clear sweep of the new voting bank.
@@ -307,6 +329,9 @@ void Hough::process_frame(const std::vector<uint64_t>& edges, uint64_t trailer,
   clear_bank(acc_q_);
   state_q_ = State::kIdle;
   clr_ptr_q_ = 0;
+  for (Slot* st : {&t_, &m_, &r_, &b_}) {
+    st->valid = false;  // drained
+  }
 }
 
 }  // namespace ceilnav::stream

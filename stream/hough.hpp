@@ -46,6 +46,12 @@ class Hough {
  public:
   enum class State : uint8_t { kIdle = 0, kVote = 1, kSwap = 2, kClear = 3 };
 
+  // Edges in kSwap when the trailer is accepted on the edge that issues the
+  // frame's last slot: that slot's votes pass stages T, M, R and B, are
+  // written on the fourth edge and their clipping counted on the fifth, which
+  // publishes (a trailer g idle cycles later: max(1, kSwapEdges - g)).
+  static constexpr int kSwapEdges = 5;
+
   explicit Hough(const HoughShape& shape = HoughShape{});
 
   // Reset: results invalid, counters 0, bank 0 votes and is cleared first
@@ -92,8 +98,9 @@ class Hough {
     return mem_[static_cast<size_t>((bank * shape_.lanes + lane)) * shape_.lane_words() + addr];
   }
   uint32_t read_port(uint32_t rd_index) const;
-  // Stage 2 of one vote: the cell += weight, saturating; counts it.
-  void vote_into(int lane, uint32_t addr, uint32_t weight);
+  // Stage W of one vote: the cell += weight, saturating; counts it. Returns
+  // whether it clipped (counted by the caller).
+  bool vote_into(int lane, uint32_t addr, uint32_t weight);
   void clear_bank(int bank);
   static void bump(uint32_t& c, uint32_t n);
 
@@ -117,15 +124,31 @@ class Hough {
   uint32_t x_q_ = 0;
   uint32_t y_q_ = 0;
   int slot_q_ = 0;
-  // Stage 1 -> 2 of the read-modify-write, per lane
-  // (the RTL forwards a write to the read of the next edge; here stage 2
-  // simply reads the memory as it is after the previous edge's write).
-  struct Stage1 {
+  // The vote pipeline of the RTL: a slot issued in stage T (the slot cycle)
+  // passes the registers of T (table words), M (products) and R (rho index,
+  // range check), then stage B reads its cells and stage W writes them. The
+  // model computes each lane's vote when the slot issues (the frame's
+  // configuration does not change while votes are in flight) and carries it
+  // through t_, m_, r_ (the registers after T, M, R) and b_ (after B); it
+  // counts the drops when they leave R and writes the votes when they leave
+  // B, reading the memory as it is after the previous edge's write (the RTL
+  // forwards that write to its read of the same cell); the clipped votes of
+  // W are counted on the next edge (w_sat_q_, the RTL's registered flags).
+  struct LaneVote {
     bool vote = false;
+    bool drop = false;
     uint32_t addr = 0;
   };
-  std::vector<Stage1> s1_;
-  uint32_t s1_weight_q_ = 0;
+  struct Slot {
+    bool valid = false;  // the stage holds a slot
+    uint32_t weight = 0;
+    std::vector<LaneVote> lanes;
+  };
+  Slot t_, m_, r_, b_;
+  uint32_t w_sat_q_ = 0;  // votes stage W clipped on the previous edge
+  // The pipeline holds a slot whose write or clip count is still to come
+  // after this edge.
+  bool busy() const { return t_.valid || m_.valid || r_.valid || b_.valid; }
   // Counters of the open frame, and the published ones
   HoughCounters cnt_;
   HoughCounters pub_;

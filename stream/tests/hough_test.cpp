@@ -206,8 +206,16 @@ TEST(Hough, ThroughputLatencyAndDoubleBuffer) {
     for (size_t i = 1; i < accepted_at.size(); ++i) {
       EXPECT_EQ(accepted_at[i] - accepted_at[i - 1], per_edge);
     }
-    // Trailer accepted on the last edge: done after the next edge, then the
-    // clear sweep, then ready.
+    // Trailer accepted on the edge that issues the last slot: SWAP until the
+    // vote pipeline (stages T, M, R, B after the slot) writes that slot's
+    // votes and counts their clips, Hough::kSwapEdges (5) edges; done after
+    // the last, then the clear sweep, then ready.
+    EXPECT_EQ(Hough::kSwapEdges, 5);
+    for (int k = 1; k < Hough::kSwapEdges; ++k) {
+      EXPECT_FALSE(h.done());
+      EXPECT_EQ(h.state(), Hough::State::kSwap);
+      h.clock(EdgeBeat{}, cfg);
+    }
     EXPECT_FALSE(h.done());
     EXPECT_EQ(h.state(), Hough::State::kSwap);
     h.clock(EdgeBeat{}, cfg);
@@ -219,6 +227,43 @@ TEST(Hough, ThroughputLatencyAndDoubleBuffer) {
       ++cycles;
     }
     EXPECT_EQ(cycles, static_cast<int>(h.clear_cycles()));
+  }
+}
+
+// A trailer after `gap` idle cycles behind the last slot: the pipeline has
+// drained by gap edges, so the publication comes max(1, kSwapEdges - gap)
+// edges after the trailer is accepted, the results equal the golden.
+TEST(Hough, PublicationWaitsForTheVotePipeline) {
+  const HoughShape shape{4, 4, 6, 16};
+  HoughConfig cfg;
+  cfg.width = 100;
+  const std::vector<EdgePoint> pts{{10, 20}, {10, 20}, {30, 7}};
+  const auto gold = clipped(shape, golden::hough_ref(shape, cfg, pts));
+  for (int gap = 0; gap <= Hough::kSwapEdges + 1; ++gap) {
+    Hough h(shape);
+    idle_until_ready(h);
+    for (const uint64_t w : words_of(pts)) {
+      ASSERT_TRUE(h.tready());
+      h.clock(EdgeBeat{true, false, w}, cfg);
+      while (!h.tready()) {
+        h.clock(EdgeBeat{}, cfg);
+      }
+    }
+    // tready is high in the last slot: the trailer (or the first idle cycle)
+    // comes on the edge that issues it.
+    for (int g = 0; g < gap; ++g) {
+      h.clock(EdgeBeat{}, cfg);
+    }
+    h.clock(EdgeBeat{true, true, trailer_word(3, 0)}, cfg);
+    int edges = 0;
+    while (!h.done()) {
+      ASSERT_EQ(h.state(), Hough::State::kSwap) << "gap " << gap;
+      h.clock(EdgeBeat{}, cfg);
+      ++edges;
+    }
+    EXPECT_EQ(edges, std::max(1, Hough::kSwapEdges - gap)) << "gap " << gap;
+    EXPECT_EQ(h.results(), gold) << "gap " << gap;
+    EXPECT_EQ(h.counters().votes + h.counters().dropped, 3u * 45u);
   }
 }
 
