@@ -97,9 +97,9 @@ Peak best_in(const cv::Mat& scores) {
   return p;
 }
 
-// The score surface's peak to a sub-pixel: the parabolas through the best
-// cell and its neighbours along each axis, their vertex offsets (dx, dy)
-// and the peak's value (the cell's plus both parabolas' rise).
+// The score surface's peak to a sub-pixel: the quadratic through the best
+// cell and its eight neighbours (vertex2), its vertex offsets (dx, dy,
+// within half a cell) and the peak's value.
 struct SubPixelPeak {
   double dx = 0.0, dy = 0.0, score = -2.0;
   cv::Point at{0, 0};
@@ -214,8 +214,8 @@ SiteTracker::SiteTracker(const Site& site, const TrackerOptions& options)
   }
   const int n = site_.options.bank_size;
   for (int k = 0; k < n; ++k) {
-    bank_.push_back(turned_template(site_, 360.0 * k / n, site_.options.template_px));
-    bank_coarse_.push_back(coarse(bank_.back()));
+    bank_coarse_.push_back(
+        coarse(turned_template(site_, 360.0 * k / n, site_.options.template_px)));
   }
 }
 
@@ -271,8 +271,8 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
     cv::matchTemplate(area, cd.tmpl, cd.scores, cv::TM_CCOEFF_NORMED);
     cd.peak = best_in(cd.scores);
   }
-  // Every candidate refined at full resolution: the window about its coarse
-  // peak, the angle in two rounds, then the position to a sub-pixel. The
+  // The candidates refined at full resolution: the window about the coarse
+  // peak, the angle in three rounds, then the position to a sub-pixel. The
   // quadrant is decided on the refined scores (at a quarter of the
   // resolution the small asymmetric features that tell the turns of a
   // symmetric grille apart are a few pixels).

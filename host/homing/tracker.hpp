@@ -117,8 +117,9 @@ class SiteTracker {
  private:
   Site site_;
   TrackerOptions options_;
-  std::vector<cv::Mat> bank_;         // full-resolution templates, bank_size
-  std::vector<cv::Mat> bank_coarse_;  // their quarter-resolution versions
+  // The bank: the patch turned by 360 k / bank_size deg, at a quarter of the
+  // resolution (the coarse search; the refinement turns the patch itself).
+  std::vector<cv::Mat> bank_coarse_;
 };
 
 }  // namespace ceilnav::host::homing
