@@ -157,7 +157,8 @@ struct CorridorOptions {
   std::string frames_dir;   // recorded frames (PNG, name order); empty: rendered
   int learn_frames = 17;
   std::optional<double> tilt_deg, swing_deg, camera_height_m;  // else the scene's camera
-  int overlays = 4;  // overlay PNGs of the first guided frames
+  double noise_grey = 2.0;  // rendered frames: the noise's sigma, grey levels
+  int overlays = 4;         // overlay PNGs of the first guided frames
   bool quiet = false;
   bool require = false;  // exit 1 unless the goals are met (frames with truth)
 };

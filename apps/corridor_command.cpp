@@ -144,7 +144,7 @@ int run_corridor(const CorridorOptions& o) {
   } else {
     const BuiltIn b = built_in_drive(base);
     gc::RenderParams rp;
-    rp.noise_sigma_grey = 2.0;
+    rp.noise_sigma_grey = o.noise_grey;
     rp.supersample = 4;
     int k = 0;
     const auto render = [&](const gc::Pose& p) {

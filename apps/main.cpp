@@ -611,6 +611,9 @@ CLI::App* add_corridor_command(CLI::App& app, CorridorOptions& c) {
       ->check(finite_in(-89.0, 89.0));
   cmd->add_option("--swing", c.swing_deg, "Camera swing, degrees (default: the scene's camera)")
       ->check(finite_in(-45.0, 45.0));
+  cmd->add_option("--noise", c.noise_grey, "Rendered frames: noise sigma, grey levels")
+      ->check(finite_in(0.0, 50.0))
+      ->capture_default_str();
   cmd->add_option("--camera-height", c.camera_height_m, "Camera height above the floor, m")
       ->check(finite_in(0.05, 100.0));
   cmd->add_option("--overlays", c.overlays, "Overlay PNGs of the first guided frames")
