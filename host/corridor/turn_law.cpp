@@ -6,7 +6,9 @@
 
 namespace ceilnav::host::corridor {
 
-TurnLaw design_turn_law() { return design_turn_law(TurnLawDesign{}); }
+TurnLaw design_turn_law() {
+  return design_turn_law(TurnLawDesign{});
+}
 
 TurnLaw design_turn_law(const TurnLawDesign& d) {
   if (!(d.convergence_length_m > 0.0) || !(d.damping > 0.0) || !(d.wheelbase_m > 0.0) ||
