@@ -5,8 +5,8 @@
 // the navigation layer's drift, homing at every site. Writes
 // homing_race.csv (a row per homing: the seed's Table 1 with the arrival
 // error and the heading), homing_frames.csv (a row per frame), the same
-// race on odometry alone (odometry_race.csv), summary.json (with the
-// goals), race.png; with --capture the capture zone of one site
+// race on odometry alone (odometry_race.csv), ceiling.yaml (the world
+// of the run), summary.json (with the goals), race.png; with --capture the capture zone of one site
 // (capture_zone.csv, capture.png). docs/homing.md.
 #include <cmath>
 #include <map>
@@ -62,6 +62,7 @@ int run_homing(const HomingOptions& o) {
   }
 
   OutputFolder out(o.out_dir);
+  gc::save_ceiling(world, out.path("ceiling.yaml").string());  // the world of this run
   hh::SiteMap map;
   if (o.map_file.empty()) {
     map = sim::record_sites(world, camera, p);
@@ -156,7 +157,9 @@ int run_homing(const HomingOptions& o) {
                      {"self_similarity", s.site.self_similarity},
                      {"rotational_similarity", s.site.rotational_similarity},
                      {"look_forward_m", s.look_forward_m},
-                     {"look_left_m", s.look_left_m}});
+                     {"look_left_m", s.look_left_m},
+                     {"usable", s.unusable.empty()}});
+    if (!s.unusable.empty()) sites.back()["unusable"] = s.unusable;
   }
   j["site_list"] = sites;
   nlohmann::json goals;

@@ -102,21 +102,34 @@ hh::SiteMap record_sites(const gc::CeilingFile& world, const host::CameraConfig&
     const gc::SitePose& s = world.sites[k];
     const nav::Pose2 pose{s.x_m, s.y_m, s.yaw_rad};
     src.shoot(pose, world.lighting);
-    hh::MapSite site{s.name, pose, hh::record_site(src.grey, src.histogram, camera, p.site)};
+    hh::MapSite site;
+    site.name = s.name;
+    site.pose = pose;
+    site.site = hh::record_site(src.grey, src.histogram, camera, p.site);
     // The look point's offset: six turns of 60 deg in place, the site
     // measured after each (nav::look_offset_from_turns).
     const hh::SiteTracker tracker(site.site, p.tracker);
     Robot robot(p.robot, pose);
+    // The turns are known to the odometry's accuracy: each frame is
+    // searched in the fast mode about the turn made (gamma = -turn).
     std::vector<nav::HomingMeasurement> turns;
-    for (int t = 0; t < 6; ++t) {
+    for (int t = 1; t <= 6; ++t) {
       follow_path(robot, {0, 0, std::numbers::pi / 3.0, 0.0, 0.0}, p);
       src.shoot(robot.pose(), world.lighting);
-      turns.push_back(hh::homing_measurement(tracker.track(src.grey, src.histogram), model,
-                                             ceiling_distance, static_cast<int>(k)));
+      turns.push_back(
+          hh::homing_measurement(tracker.track(src.grey, src.histogram, std::nullopt, -60.0 * t),
+                                 model, ceiling_distance, static_cast<int>(k)));
     }
-    const Eigen::Vector2d look = nav::look_offset_from_turns(turns);
-    site.look_forward_m = look.x();
-    site.look_left_m = look.y();
+    int found = 0;
+    for (const nav::HomingMeasurement& m : turns) found += m.status == nav::MeasurementStatus::ok;
+    if (found >= 3) {
+      const Eigen::Vector2d look = nav::look_offset_from_turns(turns);
+      site.look_forward_m = look.x();
+      site.look_left_m = look.y();
+    } else {
+      site.unusable = "found again at " + std::to_string(found) +
+                      " of 6 turns in place: it reads alike elsewhere or turned";
+    }
     map.sites.push_back(std::move(site));
   }
   const int n = static_cast<int>(map.sites.size());
@@ -138,18 +151,29 @@ const char* to_string(HomingOutcome o) {
       return "lost";
     case HomingOutcome::timeout:
       return "timeout";
+    case HomingOutcome::unusable:
+      return "unusable";
   }
   return "?";
 }
 
 HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::CeilingFile& world,
                const host::CameraConfig& camera, const HomingSimParams& p,
-               const std::function<void(const HomingFrame&)>& on_frame) {
+               const std::function<void(const HomingFrame&)>& on_frame,
+               std::optional<double> heading_prior_rad) {
   validate(p);
   require(site >= 0 && site < static_cast<int>(map.sites.size()) &&
               site < static_cast<int>(world.sites.size()),
           "the site is not in the map and the world");
   const gc::SitePose& truth = world.sites[static_cast<std::size_t>(site)];
+  if (!map.sites[static_cast<std::size_t>(site)].unusable.empty()) {
+    HomingRun none;
+    none.outcome = HomingOutcome::unusable;
+    const nav::HomingError e = true_error(robot.pose(), truth);
+    none.start_distance_m = none.position_error_m = e.distance_m();
+    none.start_heading_error_rad = none.heading_error_rad = e.turn_rad;
+    return none;
+  }
   const double ceiling_distance = world.ceiling.height_m - world.camera.height_m;
   const host::CameraModel model(camera);
 
@@ -195,9 +219,16 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
     if (robot.time_s() >= next_frame - 1e-9) {
       next_frame += period;
       src.shoot(robot.pose(), world.lighting_at_return());
-      const hh::TrackResult r = acquired
-                                    ? tracker.track(src.grey, src.histogram, last_px, last_gamma)
-                                    : acquirer.track(src.grey, src.histogram);
+      hh::TrackResult r;
+      if (acquired) {
+        r = tracker.track(src.grey, src.histogram, last_px, last_gamma);
+      } else {
+        if (heading_prior_rad) {
+          r = acquirer.track(src.grey, src.histogram, std::nullopt,
+                             *heading_prior_rad * 180.0 / std::numbers::pi);
+        }
+        if (r.status != hh::TrackStatus::ok) r = acquirer.track(src.grey, src.histogram);
+      }
       HomingFrame f;
       f.t_s = robot.time_s();
       f.robot = robot.pose();
@@ -370,7 +401,7 @@ RaceResult run_race(const gc::CeilingFile& world, const host::CameraConfig& came
       leg.arrival_heading_error_rad = arrival.turn_rad;
       sum_a2 += leg.arrival_distance_m * leg.arrival_distance_m;
       if (with_homing) {
-        leg.homing = home(robot, map, current, world, camera, p, on_frame);
+        leg.homing = home(robot, map, current, world, camera, p, on_frame, 0.0);
         res.distance_m += leg.homing.travelled_m;
         if (leg.homing.outcome == HomingOutcome::homed) {
           ++res.homed;

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,7 @@ enum class HomingOutcome {
   not_found,  // the site never matched (outside the capture zone)
   lost,       // matched, then lost for max_lost_frames
   timeout,
+  unusable,  // the map marks the site unusable (SiteMap's MapSite::unusable)
 };
 const char* to_string(HomingOutcome o);
 
@@ -107,10 +109,16 @@ struct HomingRun {
 };
 
 // Homes the robot on `site` of the map (its true pose: world.sites[site]).
+// heading_prior_rad: the turn to the site's heading the odometry predicts
+// (after an odometric path: 0, within its drift of a few degrees). With it
+// the first frames search in the seed's fast mode about that turn (the
+// quadrant known), and only without a match there the whole 360 deg; without
+// it (the capture study: nothing known) the whole 360 deg.
 HomingRun home(Robot& robot, const host::homing::SiteMap& map, int site,
                const golden::ceiling::CeilingFile& world, const host::CameraConfig& camera,
                const HomingSimParams& p,
-               const std::function<void(const HomingFrame&)>& on_frame = {});
+               const std::function<void(const HomingFrame&)>& on_frame = {},
+               std::optional<double> heading_prior_rad = std::nullopt);
 
 // Follows an odometric path on the wheel odometry: turn, straight leg, turn.
 // Returns the odometry's travelled distance.

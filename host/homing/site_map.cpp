@@ -75,6 +75,7 @@ void save_site_map(const SiteMap& map, const std::string& folder) {
                           {"yaw_rad", s.pose.yaw_rad},
                           {"look_forward_m", s.look_forward_m},
                           {"look_left_m", s.look_left_m},
+                          {"unusable", s.unusable},
                           {"patch", png},
                           {"template_px", s.site.options.template_px},
                           {"bank_size", s.site.options.bank_size},
@@ -128,6 +129,10 @@ SiteMap load_site_map(const std::string& map_json) {
               number(s, "yaw_rad", map_json, key)};
     m.look_forward_m = number(s, "look_forward_m", map_json, key);
     m.look_left_m = number(s, "look_left_m", map_json, key);
+    if (!s.contains("unusable") || !s["unusable"].is_string()) {
+      fail(map_json, key + ".unusable", "must be text (empty: usable)");
+    }
+    m.unusable = s["unusable"].get<std::string>();
     m.site.options.template_px = integer(s, "template_px", map_json, key);
     m.site.options.bank_size = integer(s, "bank_size", map_json, key);
     m.site.options.orientation_bins = integer(s, "orientation_bins", map_json, key);

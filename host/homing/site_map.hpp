@@ -23,6 +23,10 @@ struct MapSite {
   // midpoint (nav::look_offset_from_turns at the site; the servo's
   // camera offset when homing here).
   double look_forward_m = 0.0, look_left_m = 0.0;
+  // Empty when the site can be homed on; else why not (the turns in place
+  // at the recording did not find it again: it reads alike elsewhere or
+  // turned). The race does not home on such a site.
+  std::string unusable;
 };
 
 // From site `from`'s pose: turn by turn_rad, drive distance_m straight,
