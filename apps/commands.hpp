@@ -173,6 +173,9 @@ struct HomingOptions {
   std::string ceiling_file;  // empty: golden::ceiling::default_homing_world()
   std::string camera_file;   // OpenCV camera YAML (the lens); empty: 640 x 480, f = 500
   std::string map_file;      // a recorded site map (map.json); empty: record the sites
+  // Recorded frames (PNG, name order): every site of --map searched in every
+  // frame (frames.csv); no race.
+  std::string frames_dir;
   int loops = 7;
   double noise_grey = 2.0;
   bool capture = false;  // the capture zone study of --capture-site

@@ -645,6 +645,11 @@ CLI::App* add_homing_command(CLI::App& app, HomingOptions& h) {
                   "A recorded site map (map.json of an earlier run) instead of recording the "
                   "sites")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--frames", h.frames_dir,
+                  "Recorded frames (PNG, name order): search every site of --map in each (the "
+                  "360 deg search and the fast mode about each quarter turn); writes frames.csv "
+                  "and summary.json instead of the race")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--loops", h.loops, "Loops of the race")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();

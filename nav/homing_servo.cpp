@@ -38,6 +38,10 @@ void validate(const HomingServoParams& p) {
   need(std::isfinite(p.heading_tolerance_rad) && p.heading_tolerance_rad > 0.0,
        "heading_tolerance_rad", "must be > 0");
   need(std::isfinite(p.hysteresis) && p.hysteresis >= 1.0, "hysteresis", "must be >= 1");
+  need(std::isfinite(p.fine_position_m) && p.fine_position_m >= 0.0 &&
+           std::isfinite(p.fine_turn_rad) && p.fine_turn_rad >= 0.0,
+       "fine band", "must be finite and >= 0");
+  need(p.fine_smoothing > 0.0 && p.fine_smoothing <= 1.0, "fine_smoothing", "must be in (0, 1]");
   need(std::isfinite(p.max_speed_m_s) && p.max_speed_m_s > 0.0, "max_speed_m_s", "must be > 0");
   need(std::isfinite(p.max_yaw_rate_rad_s) && p.max_yaw_rate_rad_s > 0.0, "max_yaw_rate_rad_s",
        "must be > 0");
@@ -102,7 +106,22 @@ HomingCommand HomingServo::update(const HomingMeasurement& m) {
   cmd.phase = phase_;
   if (m.status != MeasurementStatus::ok) return cmd;
   const HomingServoParams& p = params_;
-  cmd.error = robot_error(m, p.camera_forward_m, p.camera_left_m);
+  const HomingError raw = robot_error(m, p.camera_forward_m, p.camera_left_m);
+  if (raw.distance_m() < p.fine_position_m && std::abs(raw.turn_rad) < p.fine_turn_rad) {
+    if (!smoothing_) {
+      smoothed_ = raw;
+      smoothing_ = true;
+    } else {
+      const double a = p.fine_smoothing;
+      smoothed_.forward_m += a * (raw.forward_m - smoothed_.forward_m);
+      smoothed_.left_m += a * (raw.left_m - smoothed_.left_m);
+      smoothed_.turn_rad += a * (raw.turn_rad - smoothed_.turn_rad);
+    }
+    cmd.error = smoothed_;
+  } else {
+    smoothing_ = false;
+    cmd.error = raw;
+  }
   const double e = cmd.error.distance_m();
   const double g = cmd.error.turn_rad;
 
@@ -134,22 +153,27 @@ HomingCommand HomingServo::update(const HomingMeasurement& m) {
   }
   cmd.phase = phase_;
 
+  // The commands act on this frame's error (the smoothed one lags: acting
+  // on it overshoots); only the phase decisions above use the smoothed one.
   if (phase_ == HomingPhase::position) {
     // eta_2: the base toward the site point (or away from it, backing up,
     // when the site is behind); eta_1 = -lambda_1(e) e along the heading,
     // scaled by cos(bearing) and only inside the drive cone.
-    const double bearing = std::atan2(cmd.error.left_m, cmd.error.forward_m);
+    const double bearing = std::atan2(raw.left_m, raw.forward_m);
     const bool reverse = std::abs(bearing) > std::numbers::pi / 2;
     const double facing = reverse ? wrap_angle(bearing - std::numbers::pi) : bearing;
     cmd.omega_rad_s =
         std::clamp(p.bearing_gain * facing, -p.max_yaw_rate_rad_s, p.max_yaw_rate_rad_s);
     if (std::abs(facing) < p.drive_cone_rad) {
-      const double v = p.position(e) * e * std::cos(facing);
+      const double d = raw.distance_m();
+      const double v = p.position(d) * d * std::cos(facing);
       cmd.v_m_s = (reverse ? -1.0 : 1.0) * std::min(v, p.max_speed_m_s);
     }
   } else if (phase_ == HomingPhase::orientation) {
     // eta_3 = -lambda_3(gamma) gamma: the rotation in place.
-    cmd.omega_rad_s = std::clamp(p.orientation(g) * g, -p.max_yaw_rate_rad_s, p.max_yaw_rate_rad_s);
+    const double t = raw.turn_rad;
+    cmd.omega_rad_s =
+        std::clamp(p.orientation(t) * t, -p.max_yaw_rate_rad_s, p.max_yaw_rate_rad_s);
   }
   return cmd;
 }

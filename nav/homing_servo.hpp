@@ -56,6 +56,17 @@ struct HomingServoParams {
   double position_tolerance_m = 0.001;
   double heading_tolerance_rad = 0.0015;
   double hysteresis = 2.0;
+  // Near the end the errors are a few measurement noises: inside the fine
+  // band (position below fine_position_m and turn below fine_turn_rad) the
+  // servo decides its steps' ends on an exponential average of the measured
+  // errors (its commands stay on each frame's: the average lags; weight
+  // fine_smoothing for the newest frame; 1 = none: the scatter of the
+  // average is sqrt(a / (2 - a)) = 1/3 of a frame's at 0.2), so that frame
+  // noise (0.3 deg of turn on a ceiling of beams) does not keep the robot
+  // turning or end a step early. Outside the band it decides on each frame's.
+  double fine_position_m = 0.005;
+  double fine_turn_rad = 0.0175;
+  double fine_smoothing = 0.2;
   double max_speed_m_s = 0.3, max_yaw_rate_rad_s = 0.8;
 };
 // Throws std::invalid_argument naming the first bad field.
@@ -94,15 +105,21 @@ class HomingServo {
  public:
   explicit HomingServo(const HomingServoParams& params = {});
   // The command for an `ok` measurement; any other status stops the robot
-  // (the phase is kept).
+  // (the phase is kept). cmd.error is the error the servo acted on (the
+  // smoothed one inside the fine band).
   HomingCommand update(const HomingMeasurement& m);
   HomingPhase phase() const { return phase_; }
-  void reset() { phase_ = HomingPhase::position; }
+  void reset() {
+    phase_ = HomingPhase::position;
+    smoothing_ = false;
+  }
   const HomingServoParams& params() const { return params_; }
 
  private:
   HomingServoParams params_;
   HomingPhase phase_ = HomingPhase::position;
+  bool smoothing_ = false;
+  HomingError smoothed_;
 };
 
 }  // namespace ceilnav::nav

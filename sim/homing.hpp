@@ -43,7 +43,14 @@ struct HomingSimParams {
   }();
   golden::ceiling::RenderParams render;  // noise 2 grey, blur 0.5 px
   host::homing::SiteOptions site;
-  host::homing::TrackerOptions tracker;
+  // The tracker: a match is the site from an NCC of 0.9 (real photos reach
+  // 0.76 in the fast mode and a like grille elsewhere on the office ceiling
+  // 0.84; the site itself scores 0.97-0.999 on the study ceilings).
+  host::homing::TrackerOptions tracker = [] {
+    host::homing::TrackerOptions t;
+    t.min_score = 0.9;
+    return t;
+  }();
   nav::HomingServoParams servo;  // the camera offset is the world's
   // The first frame of a homing searches within acquire_radius_m (on the
   // ceiling) of where the site point would be if the odometry were right;
