@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
@@ -134,6 +135,94 @@ double next_best(const cv::Mat& scores, cv::Point at, int radius) {
   double v = -2.0;
   cv::minMaxLoc(m, nullptr, &v);
   return v;
+}
+
+// TM_CCOEFF_NORMED of templates against one window at chosen offsets,
+// computed directly: the window's sums over each t x t block come from its
+// integral images (once per window), the template is made zero-mean (once
+// per template), so a score is one dot product. The refinement needs the
+// scores of a few offsets about the peak for each of many templates, where
+// cv::matchTemplate would compute the whole surface by DFT each time.
+class WindowNcc {
+ public:
+  WindowNcc(const cv::Mat& win, int t)
+      : win_(win), t_(t), cols_(win.cols - t + 1), rows_(win.rows - t + 1) {
+    cv::integral(win, sum_, sqsum_, CV_64F, CV_64F);
+  }
+  int cols() const { return cols_; }
+  int rows() const { return rows_; }
+  void set_template(const cv::Mat& tmpl) {
+    const double mean = cv::mean(tmpl)[0];
+    tmpl.convertTo(zero_mean_, CV_32F, 1.0, -mean);
+    norm_ = zero_mean_.dot(zero_mean_);
+  }
+  // The score at offset (x, y) (the block's top-left corner in the window).
+  double score(int x, int y) const {
+    const double n = static_cast<double>(t_) * t_;
+    const auto block = [&](const cv::Mat& s) {
+      return s.at<double>(y + t_, x + t_) - s.at<double>(y, x + t_) - s.at<double>(y + t_, x) +
+             s.at<double>(y, x);
+    };
+    const double s1 = block(sum_), s2 = block(sqsum_);
+    const double den = std::sqrt(norm_ * std::max(0.0, s2 - s1 * s1 / n));
+    if (!(den > 1e-12)) return 0.0;
+    return zero_mean_.dot(win_(cv::Rect(x, y, t_, t_))) / den;
+  }
+
+ private:
+  cv::Mat win_;
+  int t_, cols_, rows_;
+  cv::Mat sum_, sqsum_, zero_mean_;
+  double norm_ = 0.0;
+};
+
+// The score surface's peak near `start` as sub_pixel finds it on the whole
+// surface, from a few scores: climb to the best of the 3 x 3 cells about
+// the current cell until the centre is best, then the quadratic's vertex
+// (none at the surface's edge). The surface of a turn a fraction of a
+// degree from the last one peaks at the same cell or the next.
+SubPixelPeak local_peak(const WindowNcc& n, cv::Point start) {
+  std::vector<float> memo(static_cast<size_t>(n.cols()) * static_cast<size_t>(n.rows()),
+                          std::numeric_limits<float>::quiet_NaN());
+  const auto at = [&](int x, int y) {
+    float& m =
+        memo[static_cast<size_t>(y) * static_cast<size_t>(n.cols()) + static_cast<size_t>(x)];
+    if (std::isnan(m)) m = static_cast<float>(n.score(x, y));
+    return static_cast<double>(m);
+  };
+  cv::Point c(std::clamp(start.x, 0, n.cols() - 1), std::clamp(start.y, 0, n.rows() - 1));
+  for (int moves = 0; moves < n.cols() + n.rows(); ++moves) {
+    cv::Point best = c;
+    double best_score = at(c.x, c.y);
+    for (int j = -1; j <= 1; ++j) {
+      for (int i = -1; i <= 1; ++i) {
+        const int x = c.x + i, y = c.y + j;
+        if (x < 0 || y < 0 || x >= n.cols() || y >= n.rows()) continue;
+        const double v = at(x, y);
+        if (v > best_score) {
+          best_score = v;
+          best = cv::Point(x, y);
+        }
+      }
+    }
+    if (best == c) break;
+    c = best;
+  }
+  SubPixelPeak out;
+  out.at = c;
+  out.score = at(c.x, c.y);
+  if (c.x < 1 || c.y < 1 || c.x + 1 >= n.cols() || c.y + 1 >= n.rows()) return out;
+  std::array<std::array<double, 3>, 3> v{};
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 3; ++i) {
+      v[static_cast<size_t>(j)][static_cast<size_t>(i)] = at(c.x + i - 1, c.y + j - 1);
+    }
+  }
+  double peak = out.score;
+  if (vertex2(v, out.dx, out.dy, peak)) out.score = std::max(peak, out.score);
+  out.dx = std::clamp(out.dx, -0.5, 0.5);
+  out.dy = std::clamp(out.dy, -0.5, 0.5);
+  return out;
 }
 
 }  // namespace
@@ -288,15 +377,25 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
         std::clamp(static_cast<int>(std::lround(coarse_tl.y * scale)) - w, 0, f.rows - t);
     const int fx1 = std::min(f.cols, fx0 + t + 2 * w), fy1 = std::min(f.rows, fy0 + t + 2 * w);
     const cv::Mat win = f(cv::Rect(fx0, fy0, fx1 - fx0, fy1 - fy0));
+    WindowNcc ncc_win(win, t);
     // The score of angle g: the sub-pixel peak's (at whole pixels a turn
     // about the template's centre trades off against the sub-pixel shift
     // of off-centre content, and the angle found is pulled by ~0.4 deg).
-    const auto match = [&](double g, double sx = 0.0, double sy = 0.0) {
-      cv::Mat scores;
-      cv::matchTemplate(win, turned_template(site_, g, t, sx, sy), scores, cv::TM_CCOEFF_NORMED);
-      return sub_pixel(scores);
-    };
+    // The first angle's peak over the whole window (cv::matchTemplate),
+    // the others' climbed to from the last peak (local_peak).
     double g = cd.gamma_deg;
+    cv::Point last;
+    {
+      cv::Mat scores;
+      cv::matchTemplate(win, turned_template(site_, g, t), scores, cv::TM_CCOEFF_NORMED);
+      last = sub_pixel(scores).at;
+    }
+    const auto match = [&](double a) {
+      ncc_win.set_template(turned_template(site_, a, t));
+      const SubPixelPeak p = local_peak(ncc_win, last);
+      last = p.at;
+      return p;
+    };
     // Hill-climb then parabola, the step shrinking by 4 each round (2, 0.5,
     // 0.125 deg by default): at each step move while a neighbour scores
     // higher (at most 4 moves), then take the parabola's vertex.
@@ -324,11 +423,9 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
     SubPixelPeak p = match(g);
     double sx = p.dx, sy = p.dy;
     const cv::Point whole = p.at;
-    const cv::Mat at_whole = win(cv::Rect(whole.x, whole.y, t, t));
     const auto ncc = [&](double x, double y) {
-      cv::Mat one;
-      cv::matchTemplate(at_whole, turned_template(site_, g, t, x, y), one, cv::TM_CCOEFF_NORMED);
-      return static_cast<double>(one.at<float>(0, 0));
+      ncc_win.set_template(turned_template(site_, g, t, x, y));
+      return ncc_win.score(whole.x, whole.y);
     };
     double score = ncc(sx, sy);
     for (double h : {0.25, 0.1}) {
