@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
@@ -241,15 +242,65 @@ const char* to_string(TrackStatus s) {
 
 cv::Mat turned_template(const Site& site, double gamma_deg, int side, double shift_x_px,
                         double shift_y_px) {
-  const double c_in = 0.5 * (site.patch.cols - 1), c_out = 0.5 * (side - 1);
-  // OpenCV turns counter-clockwise on the screen for positive angles; our
-  // image angles are clockwise positive.
-  cv::Mat m = cv::getRotationMatrix2D(
-      cv::Point2f(static_cast<float>(c_in), static_cast<float>(c_in)), -gamma_deg, 1.0);
-  m.at<double>(0, 2) += c_out - c_in + shift_x_px;
-  m.at<double>(1, 2) += c_out - c_in + shift_y_px;
-  cv::Mat out;
-  cv::warpAffine(site.patch, out, m, cv::Size(side, side), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  // out(u, v) = patch(c_in + R (u - c_out - shift_x, v - c_out - shift_y)),
+  // R the turn back by gamma (image angles: clockwise positive on the
+  // screen), bilinear, the patch's edge replicated beyond it. Exact
+  // coordinates (cv::warpAffine rounds them to 1 / 32 px).
+  const cv::Mat& patch = site.patch;
+  const double c_in = 0.5 * (patch.cols - 1), c_out = 0.5 * (side - 1);
+  const double g = gamma_deg * std::numbers::pi / 180.0;
+  const double ca = std::cos(g), sa = std::sin(g);
+  const int last_x = patch.cols - 1, last_y = patch.rows - 1;
+  constexpr double kEdge = 0.01;
+  const float* base = patch.ptr<float>(0);
+  const int stride = static_cast<int>(patch.step1());
+  cv::Mat out(side, side, CV_32FC1);
+  std::vector<float> fxs(static_cast<size_t>(side)), fys(static_cast<size_t>(side));
+  std::vector<int> offsets(static_cast<size_t>(side));
+  const auto fca = static_cast<float>(ca), fsa = static_cast<float>(sa);
+  for (int v = 0; v < side; ++v) {
+    const double dy = v - c_out - shift_y_px, dx0 = -c_out - shift_x_px;
+    const double x_row = c_in + ca * dx0 + sa * dy, y_row = c_in - sa * dx0 + ca * dy;
+    const double x_end = x_row + ca * (side - 1), y_end = y_row - sa * (side - 1);
+    float* o = out.ptr<float>(v);
+    // (A margin of kEdge px keeps the float coordinates inside too.)
+    if (std::min(x_row, x_end) >= kEdge && std::max(x_row, x_end) < last_x - kEdge &&
+        std::min(y_row, y_end) >= kEdge && std::max(y_row, y_end) < last_y - kEdge) {
+      // The row's samples and their 2 x 2 cells all inside the patch: the
+      // coordinates in float (1e-5 px at the patch's size), truncation as
+      // floor, in two passes (the coordinates', then the samples').
+      const auto xr = static_cast<float>(x_row), yr = static_cast<float>(y_row);
+      for (int u = 0; u < side; ++u) {
+        const float x = xr + fca * static_cast<float>(u), y = yr - fsa * static_cast<float>(u);
+        const int xi = static_cast<int>(x), yi = static_cast<int>(y);
+        fxs[static_cast<size_t>(u)] = x - static_cast<float>(xi);
+        fys[static_cast<size_t>(u)] = y - static_cast<float>(yi);
+        offsets[static_cast<size_t>(u)] = yi * stride + xi;
+      }
+      for (int u = 0; u < side; ++u) {
+        const float* p = base + offsets[static_cast<size_t>(u)];
+        const float fx = fxs[static_cast<size_t>(u)];
+        const float top = p[0] + fx * (p[1] - p[0]);
+        const float bottom = p[stride] + fx * (p[stride + 1] - p[stride]);
+        o[u] = top + fys[static_cast<size_t>(u)] * (bottom - top);
+      }
+      continue;
+    }
+    for (int u = 0; u < side; ++u) {
+      const double x = x_row + ca * u, y = y_row - sa * u;
+      const double xf = std::floor(x), yf = std::floor(y);
+      const auto fx = static_cast<float>(x - xf), fy = static_cast<float>(y - yf);
+      // Beyond the patch both corners clamp to its edge (fx, fy moot).
+      const int x0 = static_cast<int>(std::clamp(xf, -1.0, static_cast<double>(last_x)));
+      const int y0 = static_cast<int>(std::clamp(yf, -1.0, static_cast<double>(last_y)));
+      const int xa = std::clamp(x0, 0, last_x), xb = std::clamp(x0 + 1, 0, last_x);
+      const float* ra = patch.ptr<float>(std::clamp(y0, 0, last_y));
+      const float* rb = patch.ptr<float>(std::clamp(y0 + 1, 0, last_y));
+      const float top = ra[xa] + fx * (ra[xb] - ra[xa]);
+      const float bottom = rb[xa] + fx * (rb[xb] - rb[xa]);
+      o[u] = top + fy * (bottom - top);
+    }
+  }
   return out;
 }
 

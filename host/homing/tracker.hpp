@@ -61,7 +61,8 @@ Site record_site(const cv::Mat& frame, const OrientationHistogram& histogram,
                  const CameraConfig& camera, const SiteOptions& options = {});
 
 // The site's patch turned by gamma (image angle, degrees) about its centre,
-// moved by (shift_x, shift_y) pixels, cropped to `side` x `side` (CV_32FC1).
+// moved by (shift_x, shift_y) pixels, cropped to `side` x `side` (CV_32FC1):
+// bilinear at exact coordinates, the patch's edge replicated beyond it.
 cv::Mat turned_template(const Site& site, double gamma_deg, int side, double shift_x_px = 0.0,
                         double shift_y_px = 0.0);
 
