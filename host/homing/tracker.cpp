@@ -9,6 +9,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "host/homing/ncc.hpp"
 #include "host/homing/orientation.hpp"
 
 namespace ceilnav::host::homing {
@@ -138,57 +139,18 @@ double next_best(const cv::Mat& scores, cv::Point at, int radius) {
   return v;
 }
 
-// TM_CCOEFF_NORMED of templates against one window at chosen offsets,
-// computed directly: the window's sums over each t x t block come from its
-// integral images (once per window), the template is made zero-mean (once
-// per template), so a score is one dot product. The refinement needs the
-// scores of a few offsets about the peak for each of many templates, where
-// cv::matchTemplate would compute the whole surface by DFT each time.
-class WindowNcc {
- public:
-  WindowNcc(const cv::Mat& win, int t)
-      : win_(win), t_(t), cols_(win.cols - t + 1), rows_(win.rows - t + 1) {
-    cv::integral(win, sum_, sqsum_, CV_64F, CV_64F);
-  }
-  int cols() const { return cols_; }
-  int rows() const { return rows_; }
-  void set_template(const cv::Mat& tmpl) {
-    const double mean = cv::mean(tmpl)[0];
-    tmpl.convertTo(zero_mean_, CV_32F, 1.0, -mean);
-    norm_ = zero_mean_.dot(zero_mean_);
-  }
-  // The score at offset (x, y) (the block's top-left corner in the window).
-  double score(int x, int y) const {
-    const double n = static_cast<double>(t_) * t_;
-    const auto block = [&](const cv::Mat& s) {
-      return s.at<double>(y + t_, x + t_) - s.at<double>(y, x + t_) - s.at<double>(y + t_, x) +
-             s.at<double>(y, x);
-    };
-    const double s1 = block(sum_), s2 = block(sqsum_);
-    const double den = std::sqrt(norm_ * std::max(0.0, s2 - s1 * s1 / n));
-    if (!(den > 1e-12)) return 0.0;
-    return zero_mean_.dot(win_(cv::Rect(x, y, t_, t_))) / den;
-  }
-
- private:
-  cv::Mat win_;
-  int t_, cols_, rows_;
-  cv::Mat sum_, sqsum_, zero_mean_;
-  double norm_ = 0.0;
-};
-
 // The score surface's peak near `start` as sub_pixel finds it on the whole
 // surface, from a few scores: climb to the best of the 3 x 3 cells about
 // the current cell until the centre is best, then the quadratic's vertex
 // (none at the surface's edge). The surface of a turn a fraction of a
 // degree from the last one peaks at the same cell or the next.
-SubPixelPeak local_peak(const WindowNcc& n, cv::Point start) {
+SubPixelPeak local_peak(const BlockNcc& n, const NccTemplate& tmpl, cv::Point start) {
   std::vector<float> memo(static_cast<size_t>(n.cols()) * static_cast<size_t>(n.rows()),
                           std::numeric_limits<float>::quiet_NaN());
   const auto at = [&](int x, int y) {
     float& m =
         memo[static_cast<size_t>(y) * static_cast<size_t>(n.cols()) + static_cast<size_t>(x)];
-    if (std::isnan(m)) m = static_cast<float>(n.score(x, y));
+    if (std::isnan(m)) m = static_cast<float>(n.score(tmpl, x, y));
     return static_cast<double>(m);
   };
   cv::Point c(std::clamp(start.x, 0, n.cols() - 1), std::clamp(start.y, 0, n.rows() - 1));
@@ -407,8 +369,9 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
       cands.push_back({g, bank_coarse_[static_cast<size_t>(idx)], {}, {}});
     }
   }
+  BlockNcc area_ncc(area, tc);  // the area's spectrum and block sums shared
   for (Candidate& cd : cands) {
-    cv::matchTemplate(area, cd.tmpl, cd.scores, cv::TM_CCOEFF_NORMED);
+    cd.scores = area_ncc.scores(ncc_template(cd.tmpl));
     cd.peak = best_in(cd.scores);
   }
   // The candidates refined at full resolution: the window about the coarse
@@ -428,22 +391,16 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
         std::clamp(static_cast<int>(std::lround(coarse_tl.y * scale)) - w, 0, f.rows - t);
     const int fx1 = std::min(f.cols, fx0 + t + 2 * w), fy1 = std::min(f.rows, fy0 + t + 2 * w);
     const cv::Mat win = f(cv::Rect(fx0, fy0, fx1 - fx0, fy1 - fy0));
-    WindowNcc ncc_win(win, t);
+    BlockNcc ncc_win(win, t);
     // The score of angle g: the sub-pixel peak's (at whole pixels a turn
     // about the template's centre trades off against the sub-pixel shift
     // of off-centre content, and the angle found is pulled by ~0.4 deg).
-    // The first angle's peak over the whole window (cv::matchTemplate),
-    // the others' climbed to from the last peak (local_peak).
+    // The first angle's peak over the whole window, the others' climbed to
+    // from the last peak (local_peak).
     double g = cd.gamma_deg;
-    cv::Point last;
-    {
-      cv::Mat scores;
-      cv::matchTemplate(win, turned_template(site_, g, t), scores, cv::TM_CCOEFF_NORMED);
-      last = sub_pixel(scores).at;
-    }
+    cv::Point last = sub_pixel(ncc_win.scores(ncc_template(turned_template(site_, g, t)))).at;
     const auto match = [&](double a) {
-      ncc_win.set_template(turned_template(site_, a, t));
-      const SubPixelPeak p = local_peak(ncc_win, last);
+      const SubPixelPeak p = local_peak(ncc_win, ncc_template(turned_template(site_, a, t)), last);
       last = p.at;
       return p;
     };
@@ -475,8 +432,7 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
     double sx = p.dx, sy = p.dy;
     const cv::Point whole = p.at;
     const auto ncc = [&](double x, double y) {
-      ncc_win.set_template(turned_template(site_, g, t, x, y));
-      return ncc_win.score(whole.x, whole.y);
+      return ncc_win.score(ncc_template(turned_template(site_, g, t, x, y)), whole.x, whole.y);
     };
     double score = ncc(sx, sy);
     for (double h : {0.25, 0.1}) {
