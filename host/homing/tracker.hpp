@@ -6,11 +6,13 @@
 // FindOrientation, -45 .. 45 deg) against the site's narrows gamma to four
 // candidates 90 deg apart; a bank of the site's patch turned in 11.25 deg
 // steps gives the template nearest each; normalised cross-correlation
-// (cv::matchTemplate, TM_CCOEFF_NORMED; the seed's FindModel) picks the
+// (TM_CCOEFF_NORMED, host/homing/ncc.hpp; the seed's FindModel) picks the
 // quadrant; then the peak is refined: position to a sub-pixel, angle by a
 // parabola through the scores of the patch turned by the estimate and +-
 // the refinement step. Coarse to fine: candidates on a quarter-resolution
-// pyramid level, refinement at full resolution in a small window.
+// pyramid level, refinement at full resolution in a small window (the
+// window's block sums shared by all its scores, each angle's peak climbed
+// to from the last one's).
 // docs/homing.md, "Tracking".
 //
 // Angles: the image's (u right, v down, clockwise positive on the screen);
