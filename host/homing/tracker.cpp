@@ -25,11 +25,18 @@ constexpr int kLevels = 2;  // the coarse level: 1 / 4 resolution
 // common one.
 constexpr double kSmoothSigmaPx = 1.0;
 
-cv::Mat to_float(const cv::Mat& grey) {
-  cv::Mat f, g;
-  grey.convertTo(f, CV_32F);
+// The smoothing of `f` (CV_32FC1); a view into a larger image is smoothed
+// with the pixels around it, as the whole image would be.
+cv::Mat smooth(const cv::Mat& f) {
+  cv::Mat g;
   cv::GaussianBlur(f, g, cv::Size(0, 0), kSmoothSigmaPx);
   return g;
+}
+
+cv::Mat to_float(const cv::Mat& grey) {
+  cv::Mat f;
+  grey.convertTo(f, CV_32F);
+  return smooth(f);
 }
 
 cv::Mat coarse(const cv::Mat& img) {
@@ -327,12 +334,16 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
   if (frame.type() != CV_8UC1) throw std::invalid_argument("track: the frame must be 8-bit grey");
   TrackResult out;
   const int t = site_.options.template_px;
-  const cv::Mat f = to_float(frame);
-  const cv::Mat fc = coarse(f);
   const int tc = t >> kLevels;
-  const double scale = 1 << kLevels;
+  constexpr int kScale = 1 << kLevels;
+  const double scale = kScale;
   const cv::Point2d c =
       centre.value_or(cv::Point2d(0.5 * (frame.cols - 1), 0.5 * (frame.rows - 1)));
+  int coarse_cols = frame.cols, coarse_rows = frame.rows;  // after the pyrDowns
+  for (int i = 0; i < kLevels; ++i) {
+    coarse_cols = (coarse_cols + 1) / 2;
+    coarse_rows = (coarse_rows + 1) / 2;
+  }
 
   // The coarse search area: template top-left corners whose centre lies
   // within the radius of the prediction.
@@ -340,10 +351,27 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
   const double half = 0.5 * (tc - 1);
   const int x0 = std::max(0, static_cast<int>(std::floor(c.x / scale - r - half)));
   const int y0 = std::max(0, static_cast<int>(std::floor(c.y / scale - r - half)));
-  const int x1 = std::min(fc.cols, static_cast<int>(std::ceil(c.x / scale + r + half)) + 1);
-  const int y1 = std::min(fc.rows, static_cast<int>(std::ceil(c.y / scale + r + half)) + 1);
+  const int x1 = std::min(coarse_cols, static_cast<int>(std::ceil(c.x / scale + r + half)) + 1);
+  const int y1 = std::min(coarse_rows, static_cast<int>(std::ceil(c.y / scale + r + half)) + 1);
   if (x1 - x0 < tc || y1 - y0 < tc) return out;
-  const cv::Mat area = fc(cv::Rect(x0, y0, x1 - x0, y1 - y0));
+  const int w = options_.refine_px;
+  // Only the part of the frame the search reaches is smoothed and reduced:
+  // the area at full resolution and a margin (the refinement window's, and
+  // the two pyrDowns' 6 px), its corner on the coarse grid. The smoothing
+  // sees the pixels around it and the margin covers the pyrDowns' edge:
+  // the values are the whole frame's (the coarse level's to pyrDown's
+  // float rounding, 3e-5 grey).
+  const int margin = kScale * ((std::max(w, 8) + kScale - 1) / kScale);
+  const cv::Rect reach =
+      cv::Rect(x0 * kScale - margin, y0 * kScale - margin, (x1 - x0) * kScale + 2 * margin,
+               (y1 - y0) * kScale + 2 * margin) &
+      cv::Rect(0, 0, frame.cols, frame.rows);
+  cv::Mat frame_f;
+  frame.convertTo(frame_f, CV_32F);
+  const cv::Mat f =
+      smooth(frame_f(reach));  // pixel (x, y) of the frame at f(y - reach.y, x - reach.x)
+  const cv::Mat area =
+      coarse(f)(cv::Rect(x0 - reach.x / kScale, y0 - reach.y / kScale, x1 - x0, y1 - y0));
 
   // Candidates: (angle, coarse template).
   struct Candidate {
@@ -382,15 +410,15 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
   struct Refined {
     double score = -2.0, x = 0.0, y = 0.0, gamma = 0.0;
   };
-  const int w = options_.refine_px;
   const auto refine = [&](const Candidate& cd) {
     const cv::Point2d coarse_tl(x0 + cd.peak.at.x, y0 + cd.peak.at.y);
     const int fx0 =
-        std::clamp(static_cast<int>(std::lround(coarse_tl.x * scale)) - w, 0, f.cols - t);
+        std::clamp(static_cast<int>(std::lround(coarse_tl.x * scale)) - w, 0, frame.cols - t);
     const int fy0 =
-        std::clamp(static_cast<int>(std::lround(coarse_tl.y * scale)) - w, 0, f.rows - t);
-    const int fx1 = std::min(f.cols, fx0 + t + 2 * w), fy1 = std::min(f.rows, fy0 + t + 2 * w);
-    const cv::Mat win = f(cv::Rect(fx0, fy0, fx1 - fx0, fy1 - fy0));
+        std::clamp(static_cast<int>(std::lround(coarse_tl.y * scale)) - w, 0, frame.rows - t);
+    const int fx1 = std::min(frame.cols, fx0 + t + 2 * w);
+    const int fy1 = std::min(frame.rows, fy0 + t + 2 * w);
+    const cv::Mat win = f(cv::Rect(fx0 - reach.x, fy0 - reach.y, fx1 - fx0, fy1 - fy0));
     BlockNcc ncc_win(win, t);
     // The score of angle g: the sub-pixel peak's (at whole pixels a turn
     // about the template's centre trades off against the sub-pixel shift

@@ -166,6 +166,36 @@ TEST(Tracker, FindsTheSiteFromOffsetsAndHeadingsAllRound) {
   std::printf("%d frames: worst %.3f px, %.3f deg\n", n, worst_px, worst_deg);
 }
 
+// A search near a prediction smooths and reduces only the part of the
+// frame it reaches; the site found is the whole frame's (the same smoothed
+// pixels, the coarse level's to pyrDown's float rounding, so the same
+// coarse peak and refinement), also where the reach meets the frame's edge.
+TEST(Tracker, ASearchNearAPredictionFindsWhatTheWholeFrameDoes) {
+  const Recorded r;
+  const SiteTracker whole(r.site);
+  TrackerOptions near_options;
+  near_options.search_radius_px = 60.0;
+  const SiteTracker near(r.site, near_options);
+  const CameraConfig cam;
+  int n = 0;
+  for (const gc::Pose& p : {pose(1.9, 0.05, 35.0), pose(2.6, 0.15, 0.0), pose(0.35, 1.05, 0.0),
+                            pose(1.65, -0.85, 20.0), pose(2.55, 0.9, -30.0)}) {
+    const Frame f = render(r.ceiling, p, {}, static_cast<uint64_t>(40 + n++));
+    const auto at = gc::project(cam, r.ceiling, p, r.at.x_m, r.at.y_m);
+    ASSERT_TRUE(at.has_value());
+    const TrackResult a = whole.track(f.grey, f.histogram);
+    const TrackResult b =
+        near.track(f.grey, f.histogram, cv::Point2d(at->x() + 7.0, at->y() - 5.0));
+    std::printf("site at (%.1f, %.1f): %s\n", at->x(), at->y(), to_string(b.status));
+    EXPECT_EQ(a.status, TrackStatus::ok);
+    EXPECT_EQ(b.status, TrackStatus::ok);
+    EXPECT_NEAR(a.x_px, b.x_px, 1e-6);
+    EXPECT_NEAR(a.y_px, b.y_px, 1e-6);
+    EXPECT_NEAR(a.gamma_deg, b.gamma_deg, 1e-6);
+    EXPECT_NEAR(a.score, b.score, 1e-6);
+  }
+}
+
 TEST(Tracker, FastModeAndALightingChange) {
   const Recorded r;
   const SiteTracker tracker(r.site);
