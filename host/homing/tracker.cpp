@@ -368,8 +368,8 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
       cv::Rect(0, 0, frame.cols, frame.rows);
   cv::Mat frame_f;
   frame.convertTo(frame_f, CV_32F);
-  const cv::Mat f =
-      smooth(frame_f(reach));  // pixel (x, y) of the frame at f(y - reach.y, x - reach.x)
+  // The frame's pixel (x, y) is f(y - reach.y, x - reach.x).
+  const cv::Mat f = smooth(frame_f(reach));
   const cv::Mat area =
       coarse(f)(cv::Rect(x0 - reach.x / kScale, y0 - reach.y / kScale, x1 - x0, y1 - y0));
 
