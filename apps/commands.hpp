@@ -164,6 +164,26 @@ struct CorridorOptions {
 };
 int run_corridor(const CorridorOptions& o);
 
+// `ceilnav homing`: seed 004's homing sites recorded on a structured
+// ceiling (a ceiling file, docs/navigation_io.md; default the built-in
+// office ceiling), then the triangle race and optionally the capture zone
+// (docs/homing.md).
+struct HomingOptions {
+  std::string out_dir = "ceilnav-homing";
+  std::string ceiling_file;  // empty: golden::ceiling::default_homing_world()
+  std::string camera_file;   // OpenCV camera YAML (the lens); empty: 640 x 480, f = 500
+  std::string map_file;      // a recorded site map (map.json); empty: record the sites
+  int loops = 7;
+  double noise_grey = 2.0;
+  bool capture = false;  // the capture zone study of --capture-site
+  int capture_site = 1;
+  uint64_t seed = 1;
+  bool plot = true;
+  bool quiet = false;
+  bool require = false;  // exit 1 unless the goals are met
+};
+int run_homing(const HomingOptions& o);
+
 // `ceilnav calibrate-mount`: the mount calibration drive (sim::calibration_drive)
 // with these true mount errors; calibration.json and frames.csv.
 struct CalibrateMountOptions {

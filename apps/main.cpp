@@ -627,6 +627,47 @@ CLI::App* add_corridor_command(CLI::App& app, CorridorOptions& c) {
   return cmd;
 }
 
+CLI::App* add_homing_command(CLI::App& app, HomingOptions& h) {
+  auto* cmd = app.add_subcommand(
+      "homing",
+      "Seed 004's homing on ceiling structures: record the homing sites of a ceiling, then the "
+      "triangle race (odometric paths with drift, homing at every site); writes map/, "
+      "homing_race.csv, homing_frames.csv, odometry_race.csv, summary.json and race.png");
+  cmd->add_option("--out", h.out_dir, "Output folder (written whole or not at all)")
+      ->capture_default_str();
+  cmd->add_option("--ceiling", h.ceiling_file,
+                  "Ceiling file with sites (docs/navigation_io.md, \"Ceiling files\"); default: "
+                  "the built-in office ceiling")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--camera", h.camera_file, "OpenCV camera YAML; default 640 x 480, f = 500")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--map", h.map_file,
+                  "A recorded site map (map.json of an earlier run) instead of recording the "
+                  "sites")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--loops", h.loops, "Loops of the race")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd->add_option("--noise", h.noise_grey, "Rendered frames: noise sigma, grey levels")
+      ->check(finite_in(0.0, 50.0))
+      ->capture_default_str();
+  cmd->add_flag("--capture", h.capture,
+                "Also measure the capture zone of --capture-site (homings from 224 starts up to "
+                "1.5 m away; capture_zone.csv)");
+  cmd->add_option("--capture-site", h.capture_site, "Site of the capture study (1 = first)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd->add_option("--seed", h.seed, "Seed of the frame noise and the wheel slip")
+      ->check(unsigned_integer())
+      ->capture_default_str();
+  cmd->add_flag("!--no-plot", h.plot, "No race.png");
+  cmd->add_flag("--quiet", h.quiet, "No progress bar, no summary line");
+  cmd->add_flag("--require", h.require,
+                "Exit 1 unless every homing homed, the error RMS is <= 3 mm and 0.2 deg, no "
+                "homing was false (and with --capture: radius >= 1 m, no false homing)");
+  return cmd;
+}
+
 }  // namespace
 }  // namespace ceilnav::app
 
@@ -648,6 +689,7 @@ int main(int argc, char** argv) {
   RenderDriveOptions render_drive;
   CalibrateMountOptions calibrate;
   CorridorOptions corridor;
+  HomingOptions homing;
   CLI::App* demo_cmd = add_demo_command(app, demo);
   CLI::App* run_cmd = add_run_command(app, run);
   CLI::App* render_cmd = add_render_command(app, render);
@@ -660,6 +702,7 @@ int main(int argc, char** argv) {
   CLI::App* render_drive_cmd = add_render_drive_command(app, render_drive);
   CLI::App* calibrate_cmd = add_calibrate_mount_command(app, calibrate);
   CLI::App* corridor_cmd = add_corridor_command(app, corridor);
+  CLI::App* homing_cmd = add_homing_command(app, homing);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -675,6 +718,7 @@ int main(int argc, char** argv) {
     if (*render_drive_cmd) return run_render_drive(render_drive);
     if (*calibrate_cmd) return run_calibrate_mount(calibrate);
     if (*corridor_cmd) return run_corridor(corridor);
+    if (*homing_cmd) return run_homing(homing);
   } catch (const ceilnav::host::ConfigError& e) {
     std::cerr << "ceilnav: scene error: " << e.what() << '\n';
     return 1;

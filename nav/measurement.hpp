@@ -84,4 +84,19 @@ struct CeilingHeight {
   bool against_odometry = true;
 };
 
+// A homing site seen by the camera looking up (host::homing, seed 004): the
+// site's camera position (where the camera was when the site was recorded)
+// relative to the current camera, in the robot's frame (forward along its
+// heading, left), and the turn that would give the robot the site's heading
+// (site heading - current heading, counter-clockwise +). Covariance of
+// (forward, left, turn).
+struct HomingMeasurement {
+  MeasurementTime time;
+  MeasurementStatus status = MeasurementStatus::ok;
+  int site = -1;
+  double forward_m = 0.0, left_m = 0.0;
+  double turn_rad = 0.0;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
+};
+
 }  // namespace ceilnav::nav

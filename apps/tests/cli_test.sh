@@ -32,7 +32,7 @@ expect_error() {
   ok "$name"
 }
 
-for cmd in "" demo run render accuracy exposure profile pattern pattern-accuracy drive render-drive calibrate-mount corridor; do
+for cmd in "" demo run render accuracy exposure profile pattern pattern-accuracy drive render-drive calibrate-mount corridor homing; do
   if $CEILNAV $cmd --help >"$work/help.txt" 2>&1 && grep -q -- "--" "$work/help.txt"; then
     ok "help ${cmd:-top}"
   else
@@ -745,6 +745,36 @@ expect_error "corridor missing scene" "scene" "$work/corridor_bad2" -- corridor 
 expect_error "corridor bad tilt" "--tilt" "$work/corridor_bad3" -- corridor --out "$work/corridor_bad3" --tilt nan
 printf 'format: ceilnav_corridor\nversion: 1\nbogus_key: 1\n' >"$work/bad_corridor.yaml"
 expect_error "corridor bad scene" "bogus_key" "$work/corridor_bad4" -- corridor --out "$work/corridor_bad4" --scene "$work/bad_corridor.yaml"
+
+# homing: the built-in office ceiling's three sites recorded, one loop of the
+# triangle race with the goals required; then the same race on the recorded
+# map (--map). A ceiling file with an unknown key or a single site, a bad
+# capture site and a broken map are refused with a message and no output.
+ho=$work/homing
+if $CEILNAV homing --loops 1 --out "$ho" --quiet --require >/dev/null 2>"$work/homing.err" &&
+  [ -s "$ho/homing_race.csv" ] && [ -s "$ho/homing_frames.csv" ] && [ -s "$ho/odometry_race.csv" ] &&
+  [ -s "$ho/map/map.json" ] && [ -s "$ho/map/site_2.png" ] && [ -s "$ho/race.png" ] &&
+  [ -s "$ho/ceiling.yaml" ] && grep -q '"goals_met": true' "$ho/summary.json" &&
+  [ "$(grep -c ',homed,' "$ho/homing_race.csv")" -eq 3 ]; then
+  ok "homing"
+else
+  bad "homing" "$(cat "$work/homing.err" "$ho/summary.json" 2>/dev/null | tail -8)"
+fi
+if $CEILNAV homing --loops 1 --map "$ho/map/map.json" --ceiling "$ho/ceiling.yaml" --out "$work/homing_map" \
+  --quiet --require --no-plot >/dev/null 2>"$work/homing_map.err" && [ ! -e "$work/homing_map/map" ] &&
+  grep -q '"goals_met": true' "$work/homing_map/summary.json"; then
+  ok "homing --map"
+else
+  bad "homing --map" "$(cat "$work/homing_map.err" "$work/homing_map/summary.json" 2>/dev/null | tail -8)"
+fi
+printf 'format: ceilnav_ceiling\nversion: 1\nheight_m: 3\nbogus_key: 1\n' >"$work/bad_ceiling.yaml"
+expect_error "homing bad ceiling" "bogus_key" "$work/homing_bad1" -- homing --out "$work/homing_bad1" --ceiling "$work/bad_ceiling.yaml"
+printf 'format: ceilnav_ceiling\nversion: 1\nheight_m: 3\nsites:\n  - {name: a, x_m: 0, y_m: 0, yaw_deg: 0}\n' >"$work/one_site.yaml"
+expect_error "homing one site" "two or more sites" "$work/homing_bad2" -- homing --out "$work/homing_bad2" --ceiling "$work/one_site.yaml"
+expect_error "homing capture site" "capture-site" "$work/homing_bad3" -- homing --out "$work/homing_bad3" --capture --capture-site 9
+printf '{"format": "ceilnav_site_map", "version": 1, "sites": [], "paths": [{"from": 0}]}' >"$work/bad_map.json"
+expect_error "homing bad map" "map" "$work/homing_bad4" -- homing --out "$work/homing_bad4" --map "$work/bad_map.json"
+expect_error "homing missing ceiling" "ceiling" "$work/homing_bad5" -- homing --out "$work/homing_bad5" --ceiling "$work/nope.yaml"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -105,9 +105,25 @@ double light_at(const Lighting& l, double x, double y) {
   return v > 0.0 ? v : 0.0;
 }
 
+namespace {
+
+double half_diagonal(const Rect& r) {
+  return 0.5 * std::sqrt(r.length_m * r.length_m + r.width_m * r.width_m);
+}
+
+// (x, y) outside the rectangle's circumscribed circle (no trigonometry).
+bool outside_circumcircle(const Rect& r, double x, double y) {
+  const double dx = x - r.x_m, dy = y - r.y_m;
+  const double reach = 0.25 * (r.length_m * r.length_m + r.width_m * r.width_m);
+  return dx * dx + dy * dy > reach;
+}
+
+}  // namespace
+
 Paint paint_at(const Ceiling& c, const Lighting& lighting, double x, double y) {
   for (std::size_t i = 0; i < c.lamps.size(); ++i) {
     const Lamp& l = c.lamps[i];
+    if (outside_circumcircle(l.rect, x, y)) continue;
     const Eigen::Vector2d p = local(l.rect, x, y);
     if (std::abs(p.x()) > 0.5 * l.rect.length_m || std::abs(p.y()) > 0.5 * l.rect.width_m) continue;
     const int id = kLampBase + 2 * static_cast<int>(i);
@@ -120,6 +136,7 @@ Paint paint_at(const Ceiling& c, const Lighting& lighting, double x, double y) {
   }
   for (std::size_t i = 0; i < c.vents.size(); ++i) {
     const Vent& v = c.vents[i];
+    if (outside_circumcircle(v.rect, x, y)) continue;
     const Eigen::Vector2d p = local(v.rect, x, y);
     if (std::abs(p.x()) > 0.5 * v.rect.length_m || std::abs(p.y()) > 0.5 * v.rect.width_m) continue;
     const int id = kVentBase + 3 * static_cast<int>(i);
@@ -136,7 +153,9 @@ Paint paint_at(const Ceiling& c, const Lighting& lighting, double x, double y) {
   }
   for (std::size_t i = 0; i < c.spots.size(); ++i) {
     const Spot& s = c.spots[i];
-    if (std::hypot(x - s.x_m, y - s.y_m) <= s.radius_m) {
+    const double dx = x - s.x_m, dy = y - s.y_m;
+    if (dx * dx + dy * dy > 2.0 * s.radius_m * s.radius_m) continue;  // cheap cull
+    if (std::hypot(dx, dy) <= s.radius_m) {
       return {kSpotBase + static_cast<int>(i), false, s.albedo};
     }
   }
@@ -165,14 +184,32 @@ namespace {
 double rect_boundary(const Eigen::Vector2d& p, double length, double width) {
   const double ex = std::abs(p.x()) - 0.5 * length, ey = std::abs(p.y()) - 0.5 * width;
   if (ex <= 0.0 && ey <= 0.0) return std::min(-ex, -ey);
-  return std::hypot(std::max(ex, 0.0), std::max(ey, 0.0));
+  const double ox = std::max(ex, 0.0), oy = std::max(ey, 0.0);
+  return std::sqrt(ox * ox + oy * oy);
 }
 
 }  // namespace
 
 double border_distance(const Ceiling& c, double x, double y) {
+  // The tile grid first (within half a pitch of any point), then the
+  // features that could be nearer: a feature whose circumscribed circle is
+  // at least the distance so far away is skipped (the result is the same
+  // minimum; the features' trigonometry is the renderer's cost).
   double d = std::numeric_limits<double>::infinity();
+  const Tiles& t = c.tiles;
+  if (t.pitch_x_m > 0.0 || t.pitch_y_m > 0.0) {
+    const double dx = x - t.origin_x_m, dy = y - t.origin_y_m;
+    const double ca = std::cos(t.angle_rad), sa = std::sin(t.angle_rad);
+    const double u = dx * ca + dy * sa, v = -dx * sa + dy * ca;
+    if (t.pitch_x_m > 0.0) d = std::min(d, std::abs(to_grid(u, t.pitch_x_m) - 0.5 * t.gap_m));
+    if (t.pitch_y_m > 0.0) d = std::min(d, std::abs(to_grid(v, t.pitch_y_m) - 0.5 * t.gap_m));
+  }
+  const auto beyond = [&](double cx, double cy, double reach) {
+    const double dx = x - cx, dy = y - cy, far = d + reach;
+    return std::isfinite(d) && dx * dx + dy * dy > far * far;
+  };
   for (const Lamp& l : c.lamps) {
+    if (beyond(l.rect.x_m, l.rect.y_m, half_diagonal(l.rect))) continue;
     const Eigen::Vector2d p = local(l.rect, x, y);
     d = std::min(d, rect_boundary(p, l.rect.length_m, l.rect.width_m));
     if (l.border_m > 0.0) {
@@ -181,6 +218,7 @@ double border_distance(const Ceiling& c, double x, double y) {
     }
   }
   for (const Vent& v : c.vents) {
+    if (beyond(v.rect.x_m, v.rect.y_m, half_diagonal(v.rect))) continue;
     const Eigen::Vector2d p = local(v.rect, x, y);
     d = std::min(d, rect_boundary(p, v.rect.length_m, v.rect.width_m));
     const double half_in = 0.5 * v.rect.length_m - v.border_m;
@@ -189,19 +227,15 @@ double border_distance(const Ceiling& c, double x, double y) {
     const double step = 2.0 * half_in / bands;
     for (int k = 1; k < bands; ++k) d = std::min(d, std::abs(p.x() - (-half_in + k * step)));
   }
-  for (const Spot& s : c.spots)
+  for (const Spot& s : c.spots) {
+    if (beyond(s.x_m, s.y_m, s.radius_m)) continue;
     d = std::min(d, std::abs(std::hypot(x - s.x_m, y - s.y_m) - s.radius_m));
+  }
   for (const Beam& b : c.beams) {
     const Eigen::Vector2d a(b.x0_m, b.y0_m), e(b.x1_m - b.x0_m, b.y1_m - b.y0_m), q(x, y);
-    const double t = std::clamp((q - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
-    d = std::min(d, std::abs((q - (a + t * e)).norm() - 0.5 * b.width_m));
+    const double along = std::clamp((q - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+    d = std::min(d, std::abs((q - (a + along * e)).norm() - 0.5 * b.width_m));
   }
-  const Tiles& t = c.tiles;
-  const double dx = x - t.origin_x_m, dy = y - t.origin_y_m;
-  const double ca = std::cos(t.angle_rad), sa = std::sin(t.angle_rad);
-  const double u = dx * ca + dy * sa, v = -dx * sa + dy * ca;
-  if (t.pitch_x_m > 0.0) d = std::min(d, std::abs(to_grid(u, t.pitch_x_m) - 0.5 * t.gap_m));
-  if (t.pitch_y_m > 0.0) d = std::min(d, std::abs(to_grid(v, t.pitch_y_m) - 0.5 * t.gap_m));
   return d;
 }
 

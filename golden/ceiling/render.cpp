@@ -23,6 +23,43 @@ void check_params(const RenderParams& p) {
   }
 }
 
+// The features of `c` that can reach into the box [x0, x1] x [y0, y1]
+// (their circumscribed circles meet it); the tiles and the plain ceiling
+// kept. The frame's pixels see only that box, so they render the same from
+// the cut ceiling, which is cheaper to query.
+Ceiling features_within(const Ceiling& c, double x0, double y0, double x1, double y1) {
+  const auto meets = [&](double x, double y, double reach) {
+    const double dx = std::max({x0 - x, 0.0, x - x1}), dy = std::max({y0 - y, 0.0, y - y1});
+    return dx * dx + dy * dy <= reach * reach;
+  };
+  const auto half_diagonal = [](const Rect& r) {
+    return 0.5 * std::sqrt(r.length_m * r.length_m + r.width_m * r.width_m);
+  };
+  Ceiling out = c;
+  out.lamps.clear();
+  out.vents.clear();
+  out.spots.clear();
+  out.beams.clear();
+  for (const Lamp& l : c.lamps) {
+    if (meets(l.rect.x_m, l.rect.y_m, half_diagonal(l.rect))) out.lamps.push_back(l);
+  }
+  for (const Vent& v : c.vents) {
+    if (meets(v.rect.x_m, v.rect.y_m, half_diagonal(v.rect))) out.vents.push_back(v);
+  }
+  for (const Spot& s : c.spots) {
+    if (meets(s.x_m, s.y_m, s.radius_m)) out.spots.push_back(s);
+  }
+  for (const Beam& b : c.beams) {
+    // The beam's box, widened by half its width.
+    const double w = 0.5 * b.width_m;
+    if (std::min(b.x0_m, b.x1_m) - w <= x1 && std::max(b.x0_m, b.x1_m) + w >= x0 &&
+        std::min(b.y0_m, b.y1_m) - w <= y1 && std::max(b.y0_m, b.y1_m) + w >= y0) {
+      out.beams.push_back(b);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 CameraView view_of(const Pose& pose) {
@@ -77,6 +114,35 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const Ceiling& ceiling
     p = view.centre.head<2>() + t * d.head<2>();
     return true;
   };
+  // The ceiling box the frame can see: the footprints of the border pixels
+  // (their rays' corners) bound it; 5 cm of margin.
+  double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;
+  bool bounded = true;
+  for (int j = 0; j < h && bounded; ++j) {
+    for (int i = 0; i < w && bounded; i += (j == 0 || j == h - 1) ? 1 : w - 1) {
+      const golden::PixelRay& ray =
+          (*rays)[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) +
+                  static_cast<std::size_t>(i)];
+      if (!ray.valid) {
+        bounded = false;  // a ray outside the lens model: no box
+        break;
+      }
+      for (int q = 0; q < 4; ++q) {
+        const double a = (q & 1) - 0.5, b = (q >> 1) - 0.5;
+        Eigen::Vector2d p = Eigen::Vector2d::Zero();
+        if (!hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, p)) {
+          bounded = false;
+          break;
+        }
+        bx0 = std::min(bx0, p.x());
+        bx1 = std::max(bx1, p.x());
+        by0 = std::min(by0, p.y());
+        by1 = std::max(by1, p.y());
+      }
+    }
+  }
+  const Ceiling seen =
+      bounded ? features_within(ceiling, bx0 - 0.05, by0 - 0.05, bx1 + 0.05, by1 + 0.05) : ceiling;
   for (int j = 0; j < h; ++j) {
     auto* row = out.ptr<double>(j);
     for (int i = 0; i < w; ++i) {
@@ -99,8 +165,8 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const Ceiling& ceiling
           all_hit = hit(ray.x + ray.j00 * a + ray.j01 * b, ray.y + ray.j10 * a + ray.j11 * b, p);
           if (all_hit) reach = std::max(reach, (p - c).norm());
         }
-        if (all_hit && border_distance(ceiling, c.x(), c.y()) > reach) {
-          const Paint centre = paint_at(ceiling, lighting, c.x(), c.y());
+        if (all_hit && border_distance(seen, c.x(), c.y()) > reach) {
+          const Paint centre = paint_at(seen, lighting, c.x(), c.y());
           row[i] = centre.emissive ? centre.value * lighting.lamp_gain
                                    : centre.value * light_at(lighting, c.x(), c.y());
           continue;
@@ -112,7 +178,7 @@ cv::Mat render_radiance(const host::CameraConfig& camera, const Ceiling& ceiling
         Eigen::Vector2d p = Eigen::Vector2d::Zero();
         if (hit(ray.x + ray.j00 * ja[m] + ray.j01 * jb[m],
                 ray.y + ray.j10 * ja[m] + ray.j11 * jb[m], p)) {
-          sum += radiance_at(ceiling, lighting, p.x(), p.y());
+          sum += radiance_at(seen, lighting, p.x(), p.y());
         }
       }
       row[i] = sum / static_cast<double>(cells);
