@@ -12,9 +12,14 @@
 //                       orientation block's work, on the host)
 // The frame and its histogram are made once; the histogram comes from the
 // device in the system, so the tracking benchmarks do not include it.
+// One core: OpenCV's own threads are off (cv::setNumThreads(0): its
+// functions run on the calling thread), and the CPU time is the process's
+// (all threads), so a CPU time above the wall time would show parallel work.
 #include <benchmark/benchmark.h>
 
 #include <numbers>
+
+#include <opencv2/core/utility.hpp>
 
 #include "golden/ceiling/ceiling.hpp"
 #include "golden/ceiling/render.hpp"
@@ -87,11 +92,18 @@ void BM_OrientationRef(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(golden::orientation_histogram_ref(s.frame).data());
 }
 
-BENCHMARK(BM_TrackFullSearch)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_TrackFastMode)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_TrackNear)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_OrientationRef)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TrackFullSearch)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TrackFastMode)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TrackNear)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OrientationRef)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  cv::setNumThreads(0);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

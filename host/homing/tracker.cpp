@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
 
+#include "host/homing/ncc.hpp"
 #include "host/homing/orientation.hpp"
 
 namespace ceilnav::host::homing {
@@ -22,11 +25,18 @@ constexpr int kLevels = 2;  // the coarse level: 1 / 4 resolution
 // common one.
 constexpr double kSmoothSigmaPx = 1.0;
 
-cv::Mat to_float(const cv::Mat& grey) {
-  cv::Mat f, g;
-  grey.convertTo(f, CV_32F);
+// The smoothing of `f` (CV_32FC1); a view into a larger image is smoothed
+// with the pixels around it, as the whole image would be.
+cv::Mat smooth(const cv::Mat& f) {
+  cv::Mat g;
   cv::GaussianBlur(f, g, cv::Size(0, 0), kSmoothSigmaPx);
   return g;
+}
+
+cv::Mat to_float(const cv::Mat& grey) {
+  cv::Mat f;
+  grey.convertTo(f, CV_32F);
+  return smooth(f);
 }
 
 cv::Mat coarse(const cv::Mat& img) {
@@ -136,6 +146,55 @@ double next_best(const cv::Mat& scores, cv::Point at, int radius) {
   return v;
 }
 
+// The score surface's peak near `start` as sub_pixel finds it on the whole
+// surface, from a few scores: climb to the best of the 3 x 3 cells about
+// the current cell until the centre is best, then the quadratic's vertex
+// (none at the surface's edge). The surface of a turn a fraction of a
+// degree from the last one peaks at the same cell or the next.
+SubPixelPeak local_peak(const BlockNcc& n, const NccTemplate& tmpl, cv::Point start) {
+  std::vector<float> memo(static_cast<size_t>(n.cols()) * static_cast<size_t>(n.rows()),
+                          std::numeric_limits<float>::quiet_NaN());
+  const auto at = [&](int x, int y) {
+    float& m =
+        memo[static_cast<size_t>(y) * static_cast<size_t>(n.cols()) + static_cast<size_t>(x)];
+    if (std::isnan(m)) m = static_cast<float>(n.score(tmpl, x, y));
+    return static_cast<double>(m);
+  };
+  cv::Point c(std::clamp(start.x, 0, n.cols() - 1), std::clamp(start.y, 0, n.rows() - 1));
+  for (int moves = 0; moves < n.cols() + n.rows(); ++moves) {
+    cv::Point best = c;
+    double best_score = at(c.x, c.y);
+    for (int j = -1; j <= 1; ++j) {
+      for (int i = -1; i <= 1; ++i) {
+        const int x = c.x + i, y = c.y + j;
+        if (x < 0 || y < 0 || x >= n.cols() || y >= n.rows()) continue;
+        const double v = at(x, y);
+        if (v > best_score) {
+          best_score = v;
+          best = cv::Point(x, y);
+        }
+      }
+    }
+    if (best == c) break;
+    c = best;
+  }
+  SubPixelPeak out;
+  out.at = c;
+  out.score = at(c.x, c.y);
+  if (c.x < 1 || c.y < 1 || c.x + 1 >= n.cols() || c.y + 1 >= n.rows()) return out;
+  std::array<std::array<double, 3>, 3> v{};
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 3; ++i) {
+      v[static_cast<size_t>(j)][static_cast<size_t>(i)] = at(c.x + i - 1, c.y + j - 1);
+    }
+  }
+  double peak = out.score;
+  if (vertex2(v, out.dx, out.dy, peak)) out.score = std::max(peak, out.score);
+  out.dx = std::clamp(out.dx, -0.5, 0.5);
+  out.dy = std::clamp(out.dy, -0.5, 0.5);
+  return out;
+}
+
 }  // namespace
 
 const char* to_string(TrackStatus s) {
@@ -152,15 +211,65 @@ const char* to_string(TrackStatus s) {
 
 cv::Mat turned_template(const Site& site, double gamma_deg, int side, double shift_x_px,
                         double shift_y_px) {
-  const double c_in = 0.5 * (site.patch.cols - 1), c_out = 0.5 * (side - 1);
-  // OpenCV turns counter-clockwise on the screen for positive angles; our
-  // image angles are clockwise positive.
-  cv::Mat m = cv::getRotationMatrix2D(
-      cv::Point2f(static_cast<float>(c_in), static_cast<float>(c_in)), -gamma_deg, 1.0);
-  m.at<double>(0, 2) += c_out - c_in + shift_x_px;
-  m.at<double>(1, 2) += c_out - c_in + shift_y_px;
-  cv::Mat out;
-  cv::warpAffine(site.patch, out, m, cv::Size(side, side), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  // out(u, v) = patch(c_in + R (u - c_out - shift_x, v - c_out - shift_y)),
+  // R the turn back by gamma (image angles: clockwise positive on the
+  // screen), bilinear, the patch's edge replicated beyond it. Exact
+  // coordinates (cv::warpAffine rounds them to 1 / 32 px).
+  const cv::Mat& patch = site.patch;
+  const double c_in = 0.5 * (patch.cols - 1), c_out = 0.5 * (side - 1);
+  const double g = gamma_deg * std::numbers::pi / 180.0;
+  const double ca = std::cos(g), sa = std::sin(g);
+  const int last_x = patch.cols - 1, last_y = patch.rows - 1;
+  constexpr double kEdge = 0.01;
+  const float* base = patch.ptr<float>(0);
+  const int stride = static_cast<int>(patch.step1());
+  cv::Mat out(side, side, CV_32FC1);
+  std::vector<float> fxs(static_cast<size_t>(side)), fys(static_cast<size_t>(side));
+  std::vector<int> offsets(static_cast<size_t>(side));
+  const auto fca = static_cast<float>(ca), fsa = static_cast<float>(sa);
+  for (int v = 0; v < side; ++v) {
+    const double dy = v - c_out - shift_y_px, dx0 = -c_out - shift_x_px;
+    const double x_row = c_in + ca * dx0 + sa * dy, y_row = c_in - sa * dx0 + ca * dy;
+    const double x_end = x_row + ca * (side - 1), y_end = y_row - sa * (side - 1);
+    float* o = out.ptr<float>(v);
+    // (A margin of kEdge px keeps the float coordinates inside too.)
+    if (std::min(x_row, x_end) >= kEdge && std::max(x_row, x_end) < last_x - kEdge &&
+        std::min(y_row, y_end) >= kEdge && std::max(y_row, y_end) < last_y - kEdge) {
+      // The row's samples and their 2 x 2 cells all inside the patch: the
+      // coordinates in float (1e-5 px at the patch's size), truncation as
+      // floor, in two passes (the coordinates', then the samples').
+      const auto xr = static_cast<float>(x_row), yr = static_cast<float>(y_row);
+      for (int u = 0; u < side; ++u) {
+        const float x = xr + fca * static_cast<float>(u), y = yr - fsa * static_cast<float>(u);
+        const int xi = static_cast<int>(x), yi = static_cast<int>(y);
+        fxs[static_cast<size_t>(u)] = x - static_cast<float>(xi);
+        fys[static_cast<size_t>(u)] = y - static_cast<float>(yi);
+        offsets[static_cast<size_t>(u)] = yi * stride + xi;
+      }
+      for (int u = 0; u < side; ++u) {
+        const float* p = base + offsets[static_cast<size_t>(u)];
+        const float fx = fxs[static_cast<size_t>(u)];
+        const float top = p[0] + fx * (p[1] - p[0]);
+        const float bottom = p[stride] + fx * (p[stride + 1] - p[stride]);
+        o[u] = top + fys[static_cast<size_t>(u)] * (bottom - top);
+      }
+      continue;
+    }
+    for (int u = 0; u < side; ++u) {
+      const double x = x_row + ca * u, y = y_row - sa * u;
+      const double xf = std::floor(x), yf = std::floor(y);
+      const auto fx = static_cast<float>(x - xf), fy = static_cast<float>(y - yf);
+      // Beyond the patch both corners clamp to its edge (fx, fy moot).
+      const int x0 = static_cast<int>(std::clamp(xf, -1.0, static_cast<double>(last_x)));
+      const int y0 = static_cast<int>(std::clamp(yf, -1.0, static_cast<double>(last_y)));
+      const int xa = std::clamp(x0, 0, last_x), xb = std::clamp(x0 + 1, 0, last_x);
+      const float* ra = patch.ptr<float>(std::clamp(y0, 0, last_y));
+      const float* rb = patch.ptr<float>(std::clamp(y0 + 1, 0, last_y));
+      const float top = ra[xa] + fx * (ra[xb] - ra[xa]);
+      const float bottom = rb[xa] + fx * (rb[xb] - rb[xa]);
+      o[u] = top + fy * (bottom - top);
+    }
+  }
   return out;
 }
 
@@ -225,12 +334,16 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
   if (frame.type() != CV_8UC1) throw std::invalid_argument("track: the frame must be 8-bit grey");
   TrackResult out;
   const int t = site_.options.template_px;
-  const cv::Mat f = to_float(frame);
-  const cv::Mat fc = coarse(f);
   const int tc = t >> kLevels;
-  const double scale = 1 << kLevels;
+  constexpr int kScale = 1 << kLevels;
+  const double scale = kScale;
   const cv::Point2d c =
       centre.value_or(cv::Point2d(0.5 * (frame.cols - 1), 0.5 * (frame.rows - 1)));
+  int coarse_cols = frame.cols, coarse_rows = frame.rows;  // after the pyrDowns
+  for (int i = 0; i < kLevels; ++i) {
+    coarse_cols = (coarse_cols + 1) / 2;
+    coarse_rows = (coarse_rows + 1) / 2;
+  }
 
   // The coarse search area: template top-left corners whose centre lies
   // within the radius of the prediction.
@@ -238,10 +351,27 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
   const double half = 0.5 * (tc - 1);
   const int x0 = std::max(0, static_cast<int>(std::floor(c.x / scale - r - half)));
   const int y0 = std::max(0, static_cast<int>(std::floor(c.y / scale - r - half)));
-  const int x1 = std::min(fc.cols, static_cast<int>(std::ceil(c.x / scale + r + half)) + 1);
-  const int y1 = std::min(fc.rows, static_cast<int>(std::ceil(c.y / scale + r + half)) + 1);
+  const int x1 = std::min(coarse_cols, static_cast<int>(std::ceil(c.x / scale + r + half)) + 1);
+  const int y1 = std::min(coarse_rows, static_cast<int>(std::ceil(c.y / scale + r + half)) + 1);
   if (x1 - x0 < tc || y1 - y0 < tc) return out;
-  const cv::Mat area = fc(cv::Rect(x0, y0, x1 - x0, y1 - y0));
+  const int w = options_.refine_px;
+  // Only the part of the frame the search reaches is smoothed and reduced:
+  // the area at full resolution and a margin (the refinement window's, and
+  // the two pyrDowns' 6 px), its corner on the coarse grid. The smoothing
+  // sees the pixels around it and the margin covers the pyrDowns' edge:
+  // the values are the whole frame's (the coarse level's to pyrDown's
+  // float rounding, 3e-5 grey).
+  const int margin = kScale * ((std::max(w, 8) + kScale - 1) / kScale);
+  const cv::Rect reach =
+      cv::Rect(x0 * kScale - margin, y0 * kScale - margin, (x1 - x0) * kScale + 2 * margin,
+               (y1 - y0) * kScale + 2 * margin) &
+      cv::Rect(0, 0, frame.cols, frame.rows);
+  cv::Mat frame_f;
+  frame.convertTo(frame_f, CV_32F);
+  // The frame's pixel (x, y) is f(y - reach.y, x - reach.x).
+  const cv::Mat f = smooth(frame_f(reach));
+  const cv::Mat area =
+      coarse(f)(cv::Rect(x0 - reach.x / kScale, y0 - reach.y / kScale, x1 - x0, y1 - y0));
 
   // Candidates: (angle, coarse template).
   struct Candidate {
@@ -267,8 +397,9 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
       cands.push_back({g, bank_coarse_[static_cast<size_t>(idx)], {}, {}});
     }
   }
+  BlockNcc area_ncc(area, tc);  // the area's spectrum and block sums shared
   for (Candidate& cd : cands) {
-    cv::matchTemplate(area, cd.tmpl, cd.scores, cv::TM_CCOEFF_NORMED);
+    cd.scores = area_ncc.scores(ncc_template(cd.tmpl));
     cd.peak = best_in(cd.scores);
   }
   // The candidates refined at full resolution: the window about the coarse
@@ -279,24 +410,28 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
   struct Refined {
     double score = -2.0, x = 0.0, y = 0.0, gamma = 0.0;
   };
-  const int w = options_.refine_px;
   const auto refine = [&](const Candidate& cd) {
     const cv::Point2d coarse_tl(x0 + cd.peak.at.x, y0 + cd.peak.at.y);
     const int fx0 =
-        std::clamp(static_cast<int>(std::lround(coarse_tl.x * scale)) - w, 0, f.cols - t);
+        std::clamp(static_cast<int>(std::lround(coarse_tl.x * scale)) - w, 0, frame.cols - t);
     const int fy0 =
-        std::clamp(static_cast<int>(std::lround(coarse_tl.y * scale)) - w, 0, f.rows - t);
-    const int fx1 = std::min(f.cols, fx0 + t + 2 * w), fy1 = std::min(f.rows, fy0 + t + 2 * w);
-    const cv::Mat win = f(cv::Rect(fx0, fy0, fx1 - fx0, fy1 - fy0));
+        std::clamp(static_cast<int>(std::lround(coarse_tl.y * scale)) - w, 0, frame.rows - t);
+    const int fx1 = std::min(frame.cols, fx0 + t + 2 * w);
+    const int fy1 = std::min(frame.rows, fy0 + t + 2 * w);
+    const cv::Mat win = f(cv::Rect(fx0 - reach.x, fy0 - reach.y, fx1 - fx0, fy1 - fy0));
+    BlockNcc ncc_win(win, t);
     // The score of angle g: the sub-pixel peak's (at whole pixels a turn
     // about the template's centre trades off against the sub-pixel shift
     // of off-centre content, and the angle found is pulled by ~0.4 deg).
-    const auto match = [&](double g, double sx = 0.0, double sy = 0.0) {
-      cv::Mat scores;
-      cv::matchTemplate(win, turned_template(site_, g, t, sx, sy), scores, cv::TM_CCOEFF_NORMED);
-      return sub_pixel(scores);
-    };
+    // The first angle's peak over the whole window, the others' climbed to
+    // from the last peak (local_peak).
     double g = cd.gamma_deg;
+    cv::Point last = sub_pixel(ncc_win.scores(ncc_template(turned_template(site_, g, t)))).at;
+    const auto match = [&](double a) {
+      const SubPixelPeak p = local_peak(ncc_win, ncc_template(turned_template(site_, a, t)), last);
+      last = p.at;
+      return p;
+    };
     // Hill-climb then parabola, the step shrinking by 4 each round (2, 0.5,
     // 0.125 deg by default): at each step move while a neighbour scores
     // higher (at most 4 moves), then take the parabola's vertex.
@@ -324,11 +459,8 @@ TrackResult SiteTracker::track(const cv::Mat& frame, const OrientationHistogram&
     SubPixelPeak p = match(g);
     double sx = p.dx, sy = p.dy;
     const cv::Point whole = p.at;
-    const cv::Mat at_whole = win(cv::Rect(whole.x, whole.y, t, t));
     const auto ncc = [&](double x, double y) {
-      cv::Mat one;
-      cv::matchTemplate(at_whole, turned_template(site_, g, t, x, y), one, cv::TM_CCOEFF_NORMED);
-      return static_cast<double>(one.at<float>(0, 0));
+      return ncc_win.score(ncc_template(turned_template(site_, g, t, x, y)), whole.x, whole.y);
     };
     double score = ncc(sx, sy);
     for (double h : {0.25, 0.1}) {

@@ -6,11 +6,13 @@
 // FindOrientation, -45 .. 45 deg) against the site's narrows gamma to four
 // candidates 90 deg apart; a bank of the site's patch turned in 11.25 deg
 // steps gives the template nearest each; normalised cross-correlation
-// (cv::matchTemplate, TM_CCOEFF_NORMED; the seed's FindModel) picks the
+// (TM_CCOEFF_NORMED, host/homing/ncc.hpp; the seed's FindModel) picks the
 // quadrant; then the peak is refined: position to a sub-pixel, angle by a
 // parabola through the scores of the patch turned by the estimate and +-
 // the refinement step. Coarse to fine: candidates on a quarter-resolution
-// pyramid level, refinement at full resolution in a small window.
+// pyramid level, refinement at full resolution in a small window (the
+// window's block sums shared by all its scores, each angle's peak climbed
+// to from the last one's).
 // docs/homing.md, "Tracking".
 //
 // Angles: the image's (u right, v down, clockwise positive on the screen);
@@ -61,7 +63,8 @@ Site record_site(const cv::Mat& frame, const OrientationHistogram& histogram,
                  const CameraConfig& camera, const SiteOptions& options = {});
 
 // The site's patch turned by gamma (image angle, degrees) about its centre,
-// moved by (shift_x, shift_y) pixels, cropped to `side` x `side` (CV_32FC1).
+// moved by (shift_x, shift_y) pixels, cropped to `side` x `side` (CV_32FC1):
+// bilinear at exact coordinates, the patch's edge replicated beyond it.
 cv::Mat turned_template(const Site& site, double gamma_deg, int side, double shift_x_px = 0.0,
                         double shift_y_px = 0.0);
 

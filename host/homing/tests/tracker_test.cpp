@@ -63,6 +63,68 @@ TEST(Tracker, TheGridTurnsAgainstTheHeading) {
   }
 }
 
+// turned_template samples the patch bilinearly at exact coordinates (the
+// refinement's sub-pixel shifts are finer than cv::warpAffine's 1 / 32 px):
+// whole-pixel shifts and quarter turns move pixels as cv::warpAffine does,
+// a half-pixel shift averages neighbours, a shift far beyond the patch
+// repeats its edge, and any turn agrees with cv::warpAffine to within the
+// effect of its rounding (1 / 64 px each way times the steepest slope).
+cv::Mat warp_affine_reference(const cv::Mat& patch, double gamma_deg, int side, double sx,
+                              double sy) {
+  const double c_in = 0.5 * (patch.cols - 1), c_out = 0.5 * (side - 1);
+  cv::Mat m = cv::getRotationMatrix2D(
+      cv::Point2f(static_cast<float>(c_in), static_cast<float>(c_in)), -gamma_deg, 1.0);
+  m.at<double>(0, 2) += c_out - c_in + sx;
+  m.at<double>(1, 2) += c_out - c_in + sy;
+  cv::Mat out;
+  cv::warpAffine(patch, out, m, cv::Size(side, side), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  return out;
+}
+
+TEST(Tracker, TurnedTemplateIsBilinearAtExactCoordinates) {
+  Site s;
+  cv::Mat noise(41, 41, CV_32FC1);
+  cv::RNG rng(5);
+  rng.fill(noise, cv::RNG::UNIFORM, 0.0, 255.0);
+  cv::GaussianBlur(noise, s.patch, cv::Size(0, 0), 1.5);
+  cv::Mat gx, gy;
+  cv::Sobel(s.patch, gx, CV_32F, 1, 0, 3, 0.125);
+  cv::Sobel(s.patch, gy, CV_32F, 0, 1, 3, 0.125);
+  double slope_x = 0.0, slope_y = 0.0;
+  cv::minMaxLoc(cv::abs(gx), nullptr, &slope_x);
+  cv::minMaxLoc(cv::abs(gy), nullptr, &slope_y);
+  const int side = 25;  // centres 20 and 12: out(u, v) = patch(u + 8, v + 8) unturned
+  for (double gamma : {0.0, 90.0, 180.0, -90.0}) {
+    for (const auto& [sx, sy] : {std::pair{0.0, 0.0}, {2.0, -1.0}, {-3.0, 4.0}}) {
+      EXPECT_LT(cv::norm(turned_template(s, gamma, side, sx, sy),
+                         warp_affine_reference(s.patch, gamma, side, sx, sy), cv::NORM_INF),
+                1e-3)
+          << gamma << " " << sx << " " << sy;
+    }
+  }
+  const cv::Mat half = turned_template(s, 0.0, side, 0.5, 0.0);
+  const cv::Mat far = turned_template(s, 0.0, side, 100.0, 0.0);
+  for (int v = 0; v < side; ++v) {
+    for (int u = 0; u < side; ++u) {
+      EXPECT_NEAR(half.at<float>(v, u),
+                  0.5f * (s.patch.at<float>(v + 8, u + 7) + s.patch.at<float>(v + 8, u + 8)), 1e-3);
+      EXPECT_EQ(far.at<float>(v, u), s.patch.at<float>(v + 8, 0));
+    }
+  }
+  const double bound = (slope_x + slope_y) / 64.0 + 1e-3;
+  for (double gamma : {30.0, -17.3, 133.0}) {
+    for (const auto& [sx, sy] : {std::pair{0.0, 0.0}, {0.3, -0.7}, {-6.2, 3.9}}) {
+      const cv::Mat got = turned_template(s, gamma, side, sx, sy);
+      const cv::Mat want = warp_affine_reference(s.patch, gamma, side, sx, sy);
+      EXPECT_LT(cv::norm(got, want, cv::NORM_INF), bound) << gamma << " " << sx << " " << sy;
+      // The opposite turn is far off: the bound tells the turn's sense.
+      EXPECT_GT(cv::norm(got, warp_affine_reference(s.patch, -gamma, side, sx, sy), cv::NORM_INF),
+                20.0 * bound)
+          << gamma;
+    }
+  }
+}
+
 // The site: beside the office ceiling's grille at (1.5, 0.3) and its smoke
 // detector (1.83, 0.11), heading 0. A patch centred on the square grille
 // alone would read the same at every quarter turn (the tracker says
@@ -102,6 +164,36 @@ TEST(Tracker, FindsTheSiteFromOffsetsAndHeadingsAllRound) {
     }
   }
   std::printf("%d frames: worst %.3f px, %.3f deg\n", n, worst_px, worst_deg);
+}
+
+// A search near a prediction smooths and reduces only the part of the
+// frame it reaches; the site found is the whole frame's (the same smoothed
+// pixels, the coarse level's to pyrDown's float rounding, so the same
+// coarse peak and refinement), also where the reach meets the frame's edge.
+TEST(Tracker, ASearchNearAPredictionFindsWhatTheWholeFrameDoes) {
+  const Recorded r;
+  const SiteTracker whole(r.site);
+  TrackerOptions near_options;
+  near_options.search_radius_px = 60.0;
+  const SiteTracker near(r.site, near_options);
+  const CameraConfig cam;
+  int n = 0;
+  for (const gc::Pose& p : {pose(1.9, 0.05, 35.0), pose(2.6, 0.15, 0.0), pose(0.35, 1.05, 0.0),
+                            pose(1.65, -0.85, 20.0), pose(2.55, 0.9, -30.0)}) {
+    const Frame f = render(r.ceiling, p, {}, static_cast<uint64_t>(40 + n++));
+    const auto at = gc::project(cam, r.ceiling, p, r.at.x_m, r.at.y_m);
+    ASSERT_TRUE(at.has_value());
+    const TrackResult a = whole.track(f.grey, f.histogram);
+    const TrackResult b =
+        near.track(f.grey, f.histogram, cv::Point2d(at->x() + 7.0, at->y() - 5.0));
+    std::printf("site at (%.1f, %.1f): %s\n", at->x(), at->y(), to_string(b.status));
+    EXPECT_EQ(a.status, TrackStatus::ok);
+    EXPECT_EQ(b.status, TrackStatus::ok);
+    EXPECT_NEAR(a.x_px, b.x_px, 1e-6);
+    EXPECT_NEAR(a.y_px, b.y_px, 1e-6);
+    EXPECT_NEAR(a.gamma_deg, b.gamma_deg, 1e-6);
+    EXPECT_NEAR(a.score, b.score, 1e-6);
+  }
 }
 
 TEST(Tracker, FastModeAndALightingChange) {
