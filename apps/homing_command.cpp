@@ -165,7 +165,7 @@ int run_homing(const HomingOptions& o) {
   AtomicFile frames_csv(out.path("homing_frames.csv"));
   frames_csv.stream() << "loop,site,t_s,x_m,y_m,yaw_deg,track,score,forward_m,left_m,turn_deg,"
                          "true_forward_m,true_left_m,true_turn_deg,phase,v_cmd_m_s,"
-                         "omega_cmd_rad_s\n";
+                         "omega_cmd_rad_s,consistent\n";
   const std::size_t homings = static_cast<std::size_t>(o.loops) * world.sites.size();
   Progress bar("homing race", homings, !o.quiet);
   int loop = 1, site = 0;
@@ -179,17 +179,17 @@ int run_homing(const HomingOptions& o) {
         site = (l.site + 1) % static_cast<int>(world.sites.size());
       },
       [&](const sim::HomingFrame& f) {
-        const bool ok = f.measurement.status == nav::MeasurementStatus::ok;
+        const bool ok = f.track == hh::TrackStatus::ok;  // the tracker's, checked or not
         frames_csv.stream() << fmt::format(
             "{},{},{:.2f},{:.5f},{:.5f},{:.4f},{},{:.4f},{},{},{},{:.5f},{:.5f},{:.4f},{},{:.4f},"
-            "{:.4f}\n",
+            "{:.4f},{}\n",
             loop, site + 1, f.t_s, f.robot.x_m, f.robot.y_m, f.robot.yaw_rad / kDeg,
             hh::to_string(f.track), f.score,
             ok ? fmt::format("{:.5f}", f.measurement.forward_m) : "",
             ok ? fmt::format("{:.5f}", f.measurement.left_m) : "",
             ok ? fmt::format("{:.4f}", f.measurement.turn_rad / kDeg) : "", f.true_error.forward_m,
             f.true_error.left_m, f.true_error.turn_rad / kDeg, nav::to_string(f.command.phase),
-            f.command.v_m_s, f.command.omega_rad_s);
+            f.command.v_m_s, f.command.omega_rad_s, f.consistent ? 1 : 0);
       });
   race_csv.commit();
   frames_csv.commit();
@@ -213,6 +213,9 @@ int run_homing(const HomingOptions& o) {
   j["heading_rms_deg"] = race.heading_rms_rad / kDeg;
   j["heading_max_deg"] = race.heading_max_rad / kDeg;
   j["arrival_rms_mm"] = 1e3 * race.arrival_rms_m;
+  int inconsistent = 0;
+  for (const sim::RaceLeg& l : race.legs) inconsistent += l.homing.inconsistent_frames;
+  j["inconsistent_frames"] = inconsistent;
   j["distance_m"] = race.distance_m;
   j["time_s"] = race.time_s;
   j["odometry_only"] = {{"arrival_rms_mm", 1e3 * odo.arrival_rms_m},

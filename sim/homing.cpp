@@ -70,6 +70,9 @@ void validate(const HomingSimParams& p) {
           "track_radius_px must be > 0");
   require(p.max_lost_frames >= 1, "max_lost_frames must be >= 1");
   require(std::isfinite(p.max_time_s) && p.max_time_s > 0.0, "max_time_s must be > 0");
+  require(std::isfinite(p.consistency_position_m) && p.consistency_position_m > 0.0 &&
+              std::isfinite(p.consistency_turn_rad) && p.consistency_turn_rad > 0.0,
+          "consistency bounds must be > 0");
   require(p.settle_frames >= 1, "settle_frames must be >= 1");
   require(std::isfinite(p.path_speed_m_s) && p.path_speed_m_s > 0.0 &&
               p.path_speed_m_s <= p.robot.max_speed_m_s,
@@ -204,6 +207,9 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
   nav::HomingCommand applied;
   applied.phase = nav::HomingPhase::position;
   bool acquired = false;
+  bool have_last_error = false;
+  nav::HomingError last_error;
+  nav::Pose2 moved;  // the odometry's motion since the last consistent match
   int lost = 0, settled = 0;
   cv::Point2d last_px;
   double last_gamma = 0.0;
@@ -242,9 +248,46 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       f.measurement = hh::homing_measurement(r, model, ceiling_distance, site);
       f.measurement.time = {f.t_s, f.t_s + p.latency_s};
       f.true_error = true_error(robot.pose(), truth);
+      // The odometry's check of the match: the robot's error toward the
+      // site moves against the robot's own motion since the last match
+      // (p' = R(-dpsi) (p - d), g' = g - dpsi). A match that does not (a
+      // like structure elsewhere, followed as the robot moves) is dropped
+      // and the site searched for again.
+      if (f.measurement.status == nav::MeasurementStatus::ok) {
+        const nav::HomingError now =
+            nav::robot_error(f.measurement, sp.camera_forward_m, sp.camera_left_m);
+        if (have_last_error) {
+          const double c = std::cos(moved.yaw_rad), sn = std::sin(moved.yaw_rad);
+          const double dx = last_error.forward_m - moved.x_m, dy = last_error.left_m - moved.y_m;
+          const double px = c * dx + sn * dy, py = -sn * dx + c * dy;
+          const double gap = std::hypot(now.forward_m - px, now.left_m - py);
+          const double turn_gap =
+              std::abs(nav::wrap_angle(now.turn_rad - (last_error.turn_rad - moved.yaw_rad)));
+          const double motion = std::hypot(moved.x_m, moved.y_m);
+          f.consistent = gap <= p.consistency_position_m + 0.1 * motion &&
+                         turn_gap <= p.consistency_turn_rad + 0.05 * std::abs(moved.yaw_rad);
+        }
+        if (f.consistent) {
+          last_error = now;
+          have_last_error = true;
+          moved = {};
+        } else {
+          f.measurement.status = nav::MeasurementStatus::inconsistent;
+          ++run.inconsistent_frames;
+        }
+      }
       f.command = servo.update(f.measurement);
       ++run.frames;
-      if (r.status == hh::TrackStatus::ok) {
+      if (!f.consistent) {
+        // Searched again from the next frame (the whole view).
+        acquired = false;
+        have_last_error = false;
+        moved = {};
+        if (++lost >= p.max_lost_frames) {
+          run.outcome = HomingOutcome::lost;
+          finished = true;
+        }
+      } else if (r.status == hh::TrackStatus::ok) {
         acquired = true;
         lost = 0;
         last_px = {r.x_px, r.y_px};
@@ -255,7 +298,7 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       }
       const bool at_rest = robot.speed_m_s() == 0.0 && robot.yaw_rate_rad_s() == 0.0;
       settled =
-          f.command.phase == nav::HomingPhase::done && r.status == hh::TrackStatus::ok && at_rest
+          f.command.phase == nav::HomingPhase::done && f.measurement.status == nav::MeasurementStatus::ok && at_rest
               ? settled + 1
               : 0;
       if (settled >= p.settle_frames) {
@@ -270,7 +313,8 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       applied = pending.front().second;
       pending.pop_front();
     }
-    robot.step(dt, applied.v_m_s, applied.omega_rad_s);
+    moved = nav::advance(moved, nav::motion_of(robot.step(dt, applied.v_m_s, applied.omega_rad_s),
+                                               p.robot.wheel_base_m));
     travelled += std::hypot(robot.pose().x_m - previous.x_m, robot.pose().y_m - previous.y_m);
     previous = robot.pose();
   }

@@ -63,6 +63,13 @@ struct HomingSimParams {
   // after max_time_s. It succeeds when the servo is done on settle_frames
   // consecutive frames with the robot at rest.
   int max_lost_frames = 10;
+  // A match must agree with the odometry: the robot's error toward the site
+  // predicted from the last match and the wheel odometry since, within
+  // consistency_position_m + 10 % of the motion and consistency_turn_rad +
+  // 5 % of the turn; else it is dropped (counted as lost) and the site
+  // searched for again over the whole view.
+  double consistency_position_m = 0.02;
+  double consistency_turn_rad = 0.035;
   double max_time_s = 60.0;
   int settle_frames = 2;
   // Odometric paths: the turns' and the straight legs' speed.
@@ -102,6 +109,7 @@ struct HomingFrame {
   nav::HomingMeasurement measurement;
   nav::HomingError true_error;  // the robot's error toward the site's true pose
   nav::HomingCommand command;
+  bool consistent = true;  // false: the match disagreed with the odometry (dropped)
 };
 
 struct HomingRun {
@@ -113,6 +121,7 @@ struct HomingRun {
   double position_error_m = 0.0, heading_error_rad = 0.0;
   double start_distance_m = 0.0, start_heading_error_rad = 0.0;
   double travelled_m = 0.0;
+  int inconsistent_frames = 0;  // matches the odometry's check dropped
 };
 
 // Homes the robot on `site` of the map (its true pose: world.sites[site]).

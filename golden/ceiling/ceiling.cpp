@@ -271,7 +271,7 @@ Ceiling office_ceiling() {
   for (int i = -5; i <= 5; ++i) c.spots.push_back({1.8 * i + 0.9, 0.0, 0.035, 0.25});
   // Smoke detectors off the tile centres, one beside each square grille:
   // what makes a patch around a grille read the same at no other turn.
-  for (const auto& [x, y] : {std::pair{1.83, 0.11}, {-2.97, -0.5}, {6.0, 1.24}, {-7.2, -0.04}}) {
+  for (const auto& [x, y] : {std::pair{1.83, 0.11}, {-2.95, -0.1}, {6.0, 1.24}, {-7.2, -0.04}}) {
     c.spots.push_back({x, y, 0.07, 0.3});
   }
   return c;

@@ -208,11 +208,13 @@ CeilingFile default_homing_world() {
   f.camera.forward_m = 0.1;
   f.camera.pitch_error_rad = 0.3 * kDeg;
   f.camera.roll_error_rad = -0.2 * kDeg;
-  // Beside the grille at (1.5, 0.3) and its detector; beside the grille at
-  // (-3.3, -0.3) and its detector; beside the turned diffuser at (4.2, -0.9)
-  // and a ceiling spot. Sides 4.8, 7.4 and 2.9 m.
+  // Beside the grille at (1.5, 0.3) and its detector (below right of it);
+  // beside the grille at (-3.3, -0.3) and its detector (above right); beside
+  // the turned diffuser at (4.2, -0.9) (its patch turned by 180 deg reads
+  // alike mirrored through the diffuser's centre: the odometry's heading
+  // picks the quadrant). Sides 4.7, 7.1 and 2.5 m.
   f.sites = {{"site 1", 1.6, 0.15, 0.0},
-             {"site 2", -3.1, -0.45, 150.0 * kDeg},
+             {"site 2", -3.1, -0.3, 150.0 * kDeg},
              {"site 3", 4.0, -0.6, -100.0 * kDeg}};
   Lighting back;
   back.gain = 0.8;
