@@ -29,6 +29,7 @@
 
 #include "fixedpoint/datapath.hpp"
 #include "fixedpoint/hough_trig.hpp"
+#include "fixedpoint/orientation.hpp"
 #include "regmap_model.hpp"
 
 namespace {
@@ -489,6 +490,32 @@ std::string sv_widths() {
       }
       o << "\n  };\n";
     }
+  }
+  {
+    namespace fo = ceilnav::fp::orientation;
+    line("OriGradBits", fo::kGradBits, "orientation Sobel gx, gy (signed)");
+    line("OriAbsBits", fo::kAbsBits, "orientation |gx|, |gy|");
+    line("OriDivBits", fo::kDivBits, "orientation ratio: quotient bits after the integer bit");
+    line("OriAngleFrac", fo::kAngleFrac, "orientation angle: u0.12 of 90 degrees");
+    line("OriAtanBits", fo::kAtanBits, "orientation arctangent table entry");
+    line("OriAtanEntries", fo::kAtanEntries, "orientation arctangent table entries");
+    line("OriWeightBits", fo::kWeightBits, "orientation weight (alpha-max-beta-min)");
+    line("OriBinBits", fo::kBinBits, "orientation histogram bin (saturating)");
+    line("OriThreshBits", fo::kThresholdBits, "orientation threshold");
+    // The arctangent table of fixedpoint/orientation.hpp: entry q at bits
+    // [11 q +: 11], atan(q / 256) in units of 90 / 4096 degrees.
+    const auto& t = fo::atan_table();
+    const int n = fo::kAtanEntries;
+    const int bits = fo::kAtanBits;
+    o << "  // orientation atan(q / 256) * 4096 / 90 degrees, q = 0 .. " << n - 1
+      << " (entry q at bits [" << bits << " q +: " << bits << "])\n"
+      << "  localparam logic [" << n * bits - 1 << ":0] OriAtan = {";
+    for (int q = n - 1; q >= 0; --q) {
+      o << (q == n - 1 ? "" : ",") << ((n - 1 - q) % 8 == 0 ? "\n    " : " ") << bits << "'h"
+        << std::hex << std::setw(3) << std::setfill('0') << t[static_cast<size_t>(q)] << std::dec
+        << std::setfill(' ');
+    }
+    o << "\n  };\n";
   }
   line("M00Bits", cm::kMomentBits[0], "class_moments m00");
   line("M10Bits", cm::kMomentBits[1], "class_moments m10, m01");
