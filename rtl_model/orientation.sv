@@ -16,11 +16,11 @@
 // checked by simulation assertions.
 //
 // Pipeline (one pixel per clock, never stalled), registers after the edge
-// that takes the pixel: A gradient, B fold + weight + threshold, C1..C3 the
-// division (3 quotient bits each), D table read, E bin; the read stage reads
-// the accumulating bank at E's bin, the write stage (W) writes the sum on the
-// next edge and publishes the frame at its EOF: done_o rises 8 edges after
-// the EOF pixel's.
+// that takes the pixel: A gradient, F fold, B weight + threshold, C1..C3
+// the division (3 quotient bits each), D table read, E bin; the read stage
+// reads the accumulating bank at E's bin, the write stage (W) writes the sum
+// on the next edge and publishes the frame at its EOF: done_o rises 9 edges
+// after the EOF pixel's.
 
 module orientation #(
   parameter int unsigned Bins = 90,  // 2 .. 256 bins over [0, 90) degrees
@@ -164,10 +164,10 @@ module orientation #(
   logic             a_int_q, a_sof_q, a_eof_q, a_abort_q;
   logic [GBits-1:0] a_gx_q, a_gy_q;
 
-  // Stage B: quadrant fold (u, v) = (|gx|, |gy|) in quadrants 1 and 3, else
-  // (|gy|, |gx|); octant fold M = max, m = min, upper = v > u; the weight
-  // (max(8 M, 7 M + 4 m) + 4) >> 3 and the threshold; the division's integer
-  // bit (m == M: then the remainder and every further bit are 0).
+  // Stage F: quadrant fold (u, v) = (|gx|, |gy|) in quadrants 1 and 3, else
+  // (|gy|, |gx|); octant fold M = max, m = min, upper = v > u. The threshold
+  // of the pixel's frame travels with it from here (thresh_q is the next
+  // frame's from the edge after its SOF pixel).
   logic                  gx_neg, gy_neg, gx_zero, gy_zero, same, upper, ibit;
   logic [AbsBits-1:0]    ax, ay, u, v, gmax, gmin;  // M = gmax, m = gmin
   logic [W8Bits-1:0]     w8, w7, wsum;
@@ -184,11 +184,19 @@ module orientation #(
   assign upper   = v > u;
   assign gmax    = upper ? v : u;
   assign gmin    = upper ? u : v;
-  assign w8      = {1'b0, gmax, 3'b000};
-  assign w7      = W8Bits'(gmax) * W8Bits'(7) + {2'b00, gmin, 2'b00};
+
+  logic                  f_int_q, f_sof_q, f_eof_q, f_abort_q, f_upper_q;
+  logic [AbsBits-1:0]    f_max_q, f_min_q;
+  logic [ThreshBits-1:0] f_thresh_q;
+
+  // Stage B: the weight (max(8 M, 7 M + 4 m) + 4) >> 3 and the threshold; the
+  // division's integer bit (m == M: then the remainder and every further bit
+  // are 0).
+  assign w8      = {1'b0, f_max_q, 3'b000};
+  assign w7      = W8Bits'(f_max_q) * W8Bits'(7) + {2'b00, f_min_q, 2'b00};
   assign wsum    = (w8 > w7 ? w8 : w7) + W8Bits'(4);
   assign weight  = wsum[W8Bits-1:3];
-  assign ibit    = gmin == gmax;
+  assign ibit    = f_min_q == f_max_q;
 
   // The sideband of a vote through stages B..E: {vote, weight, upper, sof,
   // eof, aborted}.
@@ -360,6 +368,10 @@ module orientation #(
       a_sof_q <= 1'b0;
       a_eof_q <= 1'b0;
       a_abort_q <= 1'b0;
+      f_int_q <= 1'b0;
+      f_sof_q <= 1'b0;
+      f_eof_q <= 1'b0;
+      f_abort_q <= 1'b0;
       b_side_q <= '0;
       c_side_q <= '0;
       d_side_q <= '0;
@@ -388,13 +400,18 @@ module orientation #(
       a_sof_q <= sof_take;
       a_eof_q <= take & s_lut_eof_i;
       a_abort_q <= s_lut_abort_i & frame_open_q;
+      // F
+      f_int_q <= a_int_q;
+      f_sof_q <= a_sof_q;
+      f_eof_q <= a_eof_q;
+      f_abort_q <= a_abort_q;
       // B
-      b_side_q.vote <= a_int_q & (ThreshBits'(weight) > thresh_q);
+      b_side_q.vote <= f_int_q & (ThreshBits'(weight) > f_thresh_q);
       b_side_q.weight <= weight;
-      b_side_q.upper <= upper;
-      b_side_q.sof <= a_sof_q;
-      b_side_q.eof <= a_eof_q;
-      b_side_q.aborted <= a_abort_q;
+      b_side_q.upper <= f_upper_q;
+      b_side_q.sof <= f_sof_q;
+      b_side_q.eof <= f_eof_q;
+      b_side_q.aborted <= f_abort_q;
       // C1..C3, D, E
       c_side_q <= c_side_in;
       d_side_q <= c_side_last;
@@ -437,8 +454,12 @@ module orientation #(
     end
     a_gx_q <= gx;
     a_gy_q <= gy;
-    b_big_q <= gmax;
-    b_rem_q <= ibit ? '0 : RemBits'(gmin);
+    f_upper_q <= upper;
+    f_max_q <= gmax;
+    f_min_q <= gmin;
+    f_thresh_q <= thresh_q;
+    b_big_q <= f_max_q;
+    b_rem_q <= ibit ? '0 : RemBits'(f_min_q);
     b_q_q <= ibit;
     c_big_q <= c_big_in;
     c_rem_q <= c_rem_out;

@@ -30,9 +30,9 @@ class Orientation {
  public:
   static constexpr uint32_t kDefaultBins = 90;
   // Pipeline registers from the pixel to the histogram's read stage: the
-  // gradient, the fold and weight, three divider stages, the table read, the
-  // bin (docs/blocks/orientation.md, "Pipeline").
-  static constexpr int kPipeStages = 7;
+  // gradient, the fold, the weight, three divider stages, the table read,
+  // the bin (docs/blocks/orientation.md, "Hardware scheme").
+  static constexpr int kPipeStages = 8;
   // EOF pixel sampled on edge e -> done() and the swapped banks after edge
   // e + kDoneLatencyCycles.
   static constexpr int kDoneLatencyCycles = kPipeStages + 1;
