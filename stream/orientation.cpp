@@ -1,6 +1,5 @@
 #include "stream/orientation.hpp"
 
-#include <algorithm>
 #include <stdexcept>
 
 namespace ceilnav::stream {
@@ -9,17 +8,12 @@ namespace {
 
 namespace fo = fp::orientation;
 
-// The vote of the window centred at (x-1, y-1): columns 0 (x-2), 1, 2 (x) of
-// rows t (y-2), m, b (y). Only centres with x, y >= 2 (interior) vote.
-struct Window {
-  uint8_t t0, m0, b0, t1, m1, b1, t2, m2, b2;
-};
-
-fo::Vote window_vote(const Window& w, uint32_t x, uint32_t y, uint32_t threshold, uint32_t bins) {
+// The vote of pixel (x, y)'s window, centred at (x-1, y-1). Only centres with
+// x, y >= 2 (interior) vote.
+fo::Vote window_vote(const Window3x3& w, uint32_t x, uint32_t y, uint32_t threshold,
+                     uint32_t bins) {
   if (x < 2 || y < 2) return {};
-  const int gx = (int{w.t2} + 2 * int{w.m2} + int{w.b2}) - (int{w.t0} + 2 * int{w.m0} + int{w.b0});
-  const int gy = (int{w.b0} + 2 * int{w.b1} + int{w.b2}) - (int{w.t0} + 2 * int{w.t1} + int{w.t2});
-  return fo::vote(gx, gy, threshold, bins);
+  return fo::vote(sobel_gx(w), sobel_gy(w), threshold, bins);
 }
 
 uint32_t saturating_inc(uint32_t v) {
@@ -28,8 +22,7 @@ uint32_t saturating_inc(uint32_t v) {
 
 }  // namespace
 
-Orientation::Orientation(uint32_t bins)
-    : bins_(bins), line1_(fp::datapath::kMaxWidth), line2_(fp::datapath::kMaxWidth) {
+Orientation::Orientation(uint32_t bins) : bins_(bins) {
   if (bins < 2 || bins > static_cast<uint32_t>(fo::kMaxBins)) {
     throw std::invalid_argument("Orientation: bins must be 2 .. 256");
   }
@@ -39,11 +32,7 @@ Orientation::Orientation(uint32_t bins)
 
 void Orientation::reset() {
   cfg_q_ = {};
-  frame_open_q_ = false;
-  x_q_ = 0;
-  y_q_ = 0;
-  win1_q_ = {};
-  win2_q_ = {};
+  window_.reset();
   pipe_ = {};
   w_q_ = {};
   acc_q_ = 0;
@@ -131,56 +120,29 @@ void Orientation::clock(const LutBeat& in, bool rd_en, uint16_t rd_bin) {
   // ---- The pixel: its window's vote enters the pipeline.
   const PixelBeat& pix = in.pix;
   Entry e{};
-  e.abort = pix.abort && frame_open_q_;
-  const bool take = pix.valid && (pix.sof ? cfg_in_.enable : frame_open_q_);
-  if (take) {
+  const LineWindow::Pixel px = window_.clock(pix, in.remap, cfg_in_.enable, "Orientation");
+  e.abort = px.abort;
+  if (px.take) {
     if (pix.sof) cfg_q_ = cfg_in_;
-    const uint32_t x = pix.sof ? 0u : x_q_;
-    const uint32_t y = pix.sof ? 0u : y_q_;
-    if (x != pix.x || y != pix.y) {
-      throw std::logic_error("Orientation: pixel position differs from the counters");
-    }
-    const Column cur{line2_[x], line1_[x], in.remap};
-    const Window win{win2_q_.top, win2_q_.mid, win2_q_.bot, win1_q_.top, win1_q_.mid,
-                     win1_q_.bot, cur.top,     cur.mid,     cur.bot};
-    const fo::Vote v = window_vote(win, x, y, cfg_q_.threshold, bins_);
+    const fo::Vote v = window_vote(px.w, px.x, px.y, cfg_q_.threshold, bins_);
     e.vote = v.valid;
     e.bin = v.bin;
     e.weight = v.weight;
     e.sof = pix.sof;
     e.eof = pix.eof;
-    line2_[x] = cur.mid;
-    line1_[x] = cur.bot;
-    win2_q_ = win1_q_;
-    win1_q_ = cur;
-    x_q_ = static_cast<uint16_t>(pix.eol ? 0u : x + 1);
-    y_q_ = static_cast<uint16_t>(pix.eol ? y + 1 : y);
   }
   w_q_ = pipe_[kPipeStages - 1];
-  for (int k = kPipeStages - 1; k > 0; --k)
-    pipe_[static_cast<size_t>(k)] = pipe_[static_cast<size_t>(k - 1)];
+  for (size_t k = kPipeStages - 1; k > 0; --k) pipe_[k] = pipe_[k - 1];
   pipe_[0] = e;
-
-  if (pix.valid && pix.sof) {
-    frame_open_q_ = take && !pix.eof;  // a disabled frame is not opened
-  } else if (take) {
-    frame_open_q_ = !pix.eof;
-  } else if (pix.abort) {
-    frame_open_q_ = false;
-  }
 }
 
 std::vector<uint32_t> Orientation::scan_frame(const OrientationConfig& cfg, uint32_t bins,
                                               const uint8_t* remap, uint32_t width,
                                               uint32_t height) {
   std::vector<uint32_t> h(bins, 0u);
-  auto at = [&](uint32_t x, uint32_t y) { return remap[size_t{y} * width + x]; };
   for (uint32_t y = 2; y < height; ++y) {
     for (uint32_t x = 2; x < width; ++x) {
-      const Window w{at(x - 2, y - 2), at(x - 2, y - 1), at(x - 2, y),
-                     at(x - 1, y - 2), at(x - 1, y - 1), at(x - 1, y),
-                     at(x, y - 2),     at(x, y - 1),     at(x, y)};
-      const fo::Vote v = window_vote(w, x, y, cfg.threshold, bins);
+      const fo::Vote v = window_vote(frame_window(remap, width, x, y), x, y, cfg.threshold, bins);
       if (v.valid) h[v.bin] = fo::add_saturating(h[v.bin], v.weight);
     }
   }

@@ -12,9 +12,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "fixedpoint/datapath.hpp"
 #include "fixedpoint/orientation.hpp"
 #include "stream/beat.hpp"
+#include "stream/line_window.hpp"
 
 namespace ceilnav::stream {
 
@@ -86,23 +86,12 @@ class Orientation {
     bool eof = false;    // the frame ends: publish (or skip) it
     bool abort = false;  // the open frame was aborted: sweep its bank
   };
-  struct Column {
-    uint8_t top = 0;
-    uint8_t mid = 0;
-    uint8_t bot = 0;
-  };
 
   uint32_t bins_;
   OrientationConfig cfg_in_{};
   OrientationConfig cfg_q_{};
 
-  bool frame_open_q_ = false;
-  uint16_t x_q_ = 0;
-  uint16_t y_q_ = 0;
-  Column win1_q_{};  // window column x-1
-  Column win2_q_{};  // window column x-2
-  std::vector<uint8_t> line1_;
-  std::vector<uint8_t> line2_;
+  LineWindow window_;  // the taken frame, the line buffer and the 3x3 window
 
   std::array<Entry, kPipeStages> pipe_{};  // pipe_[k]: after k + 1 edges
   Entry w_q_{};                            // the write stage
