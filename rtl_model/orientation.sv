@@ -11,9 +11,10 @@
 // Cycle model: stream/orientation.{hpp,cpp}; spec: docs/blocks/orientation.md.
 //
 // Inputs are assumed legal as frame_check/thresh_lut make them (the C++ model
-// throws otherwise): pix.x/pix.y equal the block's own position counters, and
-// a beat carrying both abort and a pixel is an SOF (early SOF). Both are
-// checked by simulation assertions.
+// throws otherwise): pix.x/pix.y equal the block's own position counters
+// (asserted in line_window, the taken frame and the line buffer shared with
+// edge_detect), and a beat carrying both abort and a pixel is an SOF (early
+// SOF; asserted here).
 //
 // Pipeline (one pixel per clock, never stalled), registers after the edge
 // that takes the pixel: A gradient, F fold, B weight + threshold, C1..C3
@@ -61,7 +62,6 @@ module orientation #(
 );
 
   localparam int unsigned CoordBits  = ceilnav_pkg::CoordBits;
-  localparam int unsigned PixelBits  = ceilnav_pkg::PixelBits;
   localparam int unsigned WordBits   = ceilnav_pkg::WordBits;
   // Widths from fixedpoint/orientation.hpp.
   localparam int unsigned GBits      = ceilnav_widths_pkg::OriGradBits;    // gx, gy, signed
@@ -82,8 +82,6 @@ module orientation #(
   localparam int unsigned KBits      = ProdBits - AngleFrac;
   localparam int unsigned DivStages  = 3;
   localparam int unsigned StepsPerStage = DivBits / DivStages;
-  localparam int unsigned LbBits     = 2 * PixelBits;      // line buffer: rows y-1, y-2
-  localparam int unsigned LbDepth    = 1 << CoordBits;
   localparam logic [BinIdxBits-1:0] LastBin = BinIdxBits'(Bins - 1);
   localparam int unsigned MemAddrBits = $clog2(Bins);  // bank addresses
 
@@ -96,56 +94,39 @@ module orientation #(
 
   // ---------------------------------------------------------------------------
   // Frame and configuration. A frame is taken from an SOF pixel with
-  // cfg_enable_i = 1 to its EOF pixel or an abort.
-  logic                  frame_open_q, frame_open_d, take, sof_take;
+  // cfg_enable_i = 1 to its EOF pixel or an abort (line_window).
+  logic                  frame_open_q, take, sof_take;
   logic [ThreshBits-1:0] thresh_q;
-  assign take     = s_lut_valid_i & (s_lut_sof_i ? cfg_enable_i : frame_open_q);
-  assign sof_take = s_lut_valid_i & s_lut_sof_i & cfg_enable_i;
-
-  always_comb begin
-    frame_open_d = frame_open_q;
-    if (s_lut_valid_i & s_lut_sof_i) frame_open_d = take & ~s_lut_eof_i;  // disabled: not opened
-    else if (take) frame_open_d = ~s_lut_eof_i;
-    else if (s_lut_abort_i) frame_open_d = 1'b0;
-  end
 
   ceilnav_pkg::coord_t x, y;
   ceilnav_pkg::pixel_t p;
-  assign x = s_lut_x_i;  // == the position counters (asserted below)
+  assign x = s_lut_x_i;  // == the position counters (asserted in line_window)
   assign y = s_lut_y_i;
   assign p = s_lut_remap_i;
 
-  // ---------------------------------------------------------------------------
-  // Line buffer, as edge_detect's: one BRAM word per column,
-  // {p(x,y-2), p(x,y-1)}, read on the edge before the pixel (the next
-  // pixel's column); a one-pixel-wide frame reads the word written on the
-  // same edge through the bypass.
-  ceilnav_pkg::coord_t next_col_q, rd_col;
-  logic                lb_we, lb_byp, lb_byp_q;
-  logic [LbBits-1:0]   lb_wdata, lb_rdata_q, lb_byp_data_q, lb_word;
-  (* no_rw_check *)
-  logic [LbBits-1:0]   lb_mem_q[LbDepth];
-  ceilnav_pkg::pixel_t r1, r2;  // p(x,y-1), p(x,y-2)
-
-  always_comb begin
-    rd_col = frame_open_d ? next_col_q : '0;
-    if (take) rd_col = s_lut_eol_i ? '0 : x + CoordBits'(1);
-  end
-  assign lb_word  = lb_byp_q ? lb_byp_data_q : lb_rdata_q;
-  assign r1       = lb_word[PixelBits-1:0];
-  assign r2       = lb_word[LbBits-1:PixelBits];
-  assign lb_we    = rst_ni & take;  // no write on an edge in reset
-  assign lb_wdata = {r1, p};
-  assign lb_byp   = take & s_lut_eol_i & (x == '0);
-
-  always_ff @(posedge clk_i) begin
-    if (lb_we) lb_mem_q[x] <= lb_wdata;
-  end
-  always_ff @(posedge clk_i) begin
-    lb_rdata_q <= lb_mem_q[rd_col];
-    lb_byp_q <= lb_byp;
-    lb_byp_data_q <= lb_wdata;
-  end
+  // The taken frame and the line buffer, as edge_detect's (line_window):
+  // r1, r2 = p(x,y-1), p(x,y-2) of this pixel's column.
+  ceilnav_pkg::pixel_t r1, r2, sr1_unused, sr2_unused;
+  line_window u_window (
+    .clk_i,
+    .rst_ni,
+    .s_valid_i   (s_lut_valid_i),
+    .s_x_i       (s_lut_x_i),
+    .s_y_i       (s_lut_y_i),
+    .s_sof_i     (s_lut_sof_i),
+    .s_eol_i     (s_lut_eol_i),
+    .s_eof_i     (s_lut_eof_i),
+    .s_abort_i   (s_lut_abort_i),
+    .s_remap_i   (s_lut_remap_i),
+    .enable_i    (cfg_enable_i),
+    .take_o      (take),
+    .sof_take_o  (sof_take),
+    .frame_open_o(frame_open_q),
+    .r1_o        (r1),
+    .r2_o        (r2),
+    .sr1_o       (sr1_unused),
+    .sr2_o       (sr2_unused)
+  );
 
   // 3x3 window: columns x-2 (0), x-1 (1) registered, column x = {r2, r1, p}.
   ceilnav_pkg::pixel_t t0_q, m0_q, b0_q, t1_q, m1_q, b1_q;
@@ -361,9 +342,7 @@ module orientation #(
   // Registers.
   always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
-      frame_open_q <= 1'b0;
       thresh_q <= ThreshBits'(16);  // OrientationConfig{} (unused until an SOF latches the port)
-      next_col_q <= '0;
       a_int_q <= 1'b0;
       a_sof_q <= 1'b0;
       a_eof_q <= 1'b0;
@@ -392,8 +371,6 @@ module orientation #(
       done_q <= 1'b0;
       rd_valid_q <= 1'b0;
     end else begin
-      frame_open_q <= frame_open_d;
-      next_col_q <= rd_col;
       if (sof_take) thresh_q <= cfg_threshold_i;
       // A
       a_int_q <= take & interior;
@@ -487,31 +464,14 @@ module orientation #(
   logic unused;
   // Of the last division stage only the quotient, of the sums only the kept
   // bits, and the octant at stage E only through the bin are used.
-  assign unused = ^{s_lut_grey_i, s_lut_mask_i, c_rem_q[(DivStages-1)*RemBits +: RemBits],
+  assign unused = ^{s_lut_grey_i, s_lut_mask_i, sr1_unused, sr2_unused, c_rem_q[(DivStages-1)*RemBits +: RemBits],
                     c_big_q[(DivStages-1)*AbsBits +: AbsBits],
                     q_inc[0], wsum[2:0], prod[AngleFrac-1:0], e_side_q.upper};
 
 `ifndef SYNTHESIS
-  // Position counters, for the assertion only: the RTL uses pix.x/pix.y.
-  ceilnav_pkg::coord_t x_q, y_q, x_cnt, y_cnt;
-  assign x_cnt = s_lut_sof_i ? '0 : x_q;
-  assign y_cnt = s_lut_sof_i ? '0 : y_q;
-  always_ff @(posedge clk_i) begin
-    if (!rst_ni) begin
-      x_q <= '0;
-      y_q <= '0;
-    end else if (take) begin
-      x_q <= s_lut_eol_i ? '0 : x_cnt + CoordBits'(1);
-      y_q <= s_lut_eol_i ? y_cnt + CoordBits'(1) : y_cnt;
-    end
-  end
+  // (The pixel position and the line buffer's read are checked in line_window.)
   always_ff @(posedge clk_i) begin
     if (rst_ni) begin
-      if (take) begin
-        assert (s_lut_x_i == x_cnt && s_lut_y_i == y_cnt)
-        else $error("orientation: pixel (%0d, %0d) but counters (%0d, %0d)",
-                    s_lut_x_i, s_lut_y_i, x_cnt, y_cnt);
-      end
       assert (!(s_lut_abort_i && s_lut_valid_i) || s_lut_sof_i)
       else $error("orientation: abort on a pixel that is not an SOF");
       // A vote is read and written in the bank it was counted in: no
