@@ -33,16 +33,16 @@ endfunction()
 
 # ceilnav_add_cosim(<name> SOURCES <cpp...>
 #                   (TOP <module> [SV <files...>] [PREFIX <class>] [ARGS <args...>]
-#                    [VARIANT <class> <args...>] | RTL <library>)
+#                    [VARIANT <class> <args...>] [VARIANT2 <class> <args...>] | RTL <library>)
 #                   [LIBS <libs...>] [DEFINES <defs...>] [INCLUDE_DIRS <dirs...>])
 # A GoogleTest co-simulation executable <name>: with TOP, the block verilated
 # into it (SV defaults to the list CEILNAV_SV_<module>; VARIANT verilates it
-# once more as <class> with other parameters); with RTL, linked against an
+# once more as <class> with other parameters, VARIANT2 a third time); with RTL, linked against an
 # already verilated library (the device top). The test sources get the
 # project warnings; every TEST becomes a ctest entry "<name>.<suite>.<test>"
 # labelled cosim.
 function(ceilnav_add_cosim name)
-  cmake_parse_arguments(ARG "" "TOP;PREFIX;RTL" "SV;SOURCES;LIBS;ARGS;VARIANT;DEFINES;INCLUDE_DIRS"
+  cmake_parse_arguments(ARG "" "TOP;PREFIX;RTL" "SV;SOURCES;LIBS;ARGS;VARIANT;VARIANT2;DEFINES;INCLUDE_DIRS"
                         ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   if(ARG_TOP)
@@ -54,11 +54,14 @@ function(ceilnav_add_cosim name)
       set(prefix PREFIX ${ARG_PREFIX})
     endif()
     ceilnav_verilate(${name} TOP ${ARG_TOP} SV ${ARG_SV} ${prefix} ARGS ${ARG_ARGS})
-    if(ARG_VARIANT)
-      list(POP_FRONT ARG_VARIANT variant_prefix)
-      ceilnav_verilate(${name} TOP ${ARG_TOP} SV ${ARG_SV} PREFIX ${variant_prefix}
-                       ARGS ${ARG_VARIANT})
-    endif()
+    foreach(variant IN ITEMS ARG_VARIANT ARG_VARIANT2)
+      if(${variant})
+        set(variant_args ${${variant}})
+        list(POP_FRONT variant_args variant_prefix)
+        ceilnav_verilate(${name} TOP ${ARG_TOP} SV ${ARG_SV} PREFIX ${variant_prefix}
+                         ARGS ${variant_args})
+      endif()
+    endforeach()
   else()
     list(APPEND ARG_LIBS ${ARG_RTL})
   endif()

@@ -5,6 +5,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "fixedpoint/orientation.hpp"
+
 namespace ceilnav::golden {
 
 std::vector<double> orientation_histogram_ref(const cv::Mat& grey, const OrientationParams& p) {
@@ -30,6 +32,35 @@ std::vector<double> orientation_histogram_ref(const cv::Mat& grey, const Orienta
       const double folded = std::fmod(static_cast<double>(a[x]), 90.0);
       const int k = static_cast<int>(std::lround(folded / per_bin)) % p.bins;
       h[static_cast<std::size_t>(k)] += m[x];
+    }
+  }
+  return h;
+}
+
+std::vector<uint32_t> orientation_histogram_fixed(const cv::Mat& grey,
+                                                  const OrientationFixedParams& p) {
+  namespace fo = fp::orientation;
+  if (grey.type() != CV_8UC1 || grey.cols < 3 || grey.rows < 3) {
+    throw std::invalid_argument(
+        "orientation_histogram_fixed: the image must be 8-bit grey, >= 3 x 3");
+  }
+  if (p.bins < 1 || p.bins > fo::kMaxBins || p.threshold < 0 ||
+      p.threshold >= (1 << fo::kThresholdBits)) {
+    throw std::invalid_argument("orientation_histogram_fixed: bins 1 .. 256, threshold 0 .. 4095");
+  }
+  cv::Mat gx, gy;
+  cv::Sobel(grey, gx, CV_16S, 1, 0, 3);
+  cv::Sobel(grey, gy, CV_16S, 0, 1, 3);
+  std::vector<uint32_t> h(static_cast<std::size_t>(p.bins), 0u);
+  for (int y = 1; y + 1 < grey.rows; ++y) {
+    const int16_t* gxr = gx.ptr<int16_t>(y);
+    const int16_t* gyr = gy.ptr<int16_t>(y);
+    for (int x = 1; x + 1 < grey.cols; ++x) {
+      const fo::Vote v = fo::vote(gxr[x], gyr[x], static_cast<uint32_t>(p.threshold),
+                                  static_cast<uint32_t>(p.bins));
+      if (!v.valid) continue;
+      uint32_t& b = h[v.bin];
+      b = fo::add_saturating(b, v.weight);
     }
   }
   return h;

@@ -12,6 +12,7 @@
 // positive angles turn clockwise on the screen.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -28,5 +29,22 @@ struct OrientationParams {
 // takes the angles that round to 90).
 // Throws std::invalid_argument on a bad image or parameters.
 std::vector<double> orientation_histogram_ref(const cv::Mat& grey, const OrientationParams& p = {});
+
+// The orientation block's fixed-point histogram, bit true (equal to
+// stream::Orientation's published bins): the same interior 3 x 3 Sobel
+// gradients (exact integers), each voted by fp::orientation::vote()
+// (fixedpoint/orientation.hpp: the folded angle by an arctangent table, the
+// alpha-max-beta-min weight) when its weight exceeds `threshold`; 32-bit
+// bins, saturating. docs/blocks/orientation.md derives its bound against
+// orientation_histogram_ref.
+struct OrientationFixedParams {
+  int bins = 90;       // 1 .. fp::orientation::kMaxBins
+  int threshold = 16;  // 0 .. 4095: a gradient votes if its weight > threshold
+};
+
+// grey: CV_8UC1, at least 3 x 3. Throws std::invalid_argument on a bad image
+// or parameters.
+std::vector<uint32_t> orientation_histogram_fixed(const cv::Mat& grey,
+                                                  const OrientationFixedParams& p = {});
 
 }  // namespace ceilnav::golden

@@ -77,8 +77,6 @@ module edge_detect #(
   localparam int unsigned ABits = CntBits;
   localparam int unsigned BBits = FieldBits + FlagBits;
   localparam int unsigned EntryBits = 1 + ABits + BBits;
-  localparam int unsigned LbBits = 2 * PixelBits;  // line buffer: rows y-1, y-2
-  localparam int unsigned LbDepth = 1 << CoordBits;
 
   localparam logic [ModeBits-1:0] ModeH = ModeBits'(0);
   localparam logic [ModeBits-1:0] ModeV = ModeBits'(1);
@@ -90,65 +88,43 @@ module edge_detect #(
 
   // ---------------------------------------------------------------------------
   // Frame and configuration. A frame is taken from an SOF pixel with
-  // cfg_enable_i = 1 to its EOF pixel or an abort.
-  logic                  frame_open_q, frame_open_d, take, sof_take, sof_pix;
+  // cfg_enable_i = 1 to its EOF pixel or an abort (line_window).
+  logic                  frame_open_q, take, sof_take;
   logic [ModeBits-1:0]   mode_q, mode;
   logic [ThreshBits-1:0] thresh_q, thresh;
-  assign sof_pix  = s_lut_valid_i & s_lut_sof_i;
-  assign take     = s_lut_valid_i & (s_lut_sof_i ? cfg_enable_i : frame_open_q);
-  assign sof_take = sof_pix & cfg_enable_i;
   assign mode     = s_lut_sof_i ? cfg_mode_i : mode_q;
   assign thresh   = s_lut_sof_i ? cfg_threshold_i : thresh_q;
 
-  always_comb begin
-    frame_open_d = frame_open_q;
-    if (sof_pix) frame_open_d = take & ~s_lut_eof_i;  // a disabled frame is not opened
-    else if (take) frame_open_d = ~s_lut_eof_i;
-    else if (s_lut_abort_i) frame_open_d = 1'b0;
-  end
-
   ceilnav_pkg::coord_t x, y;
   ceilnav_pkg::pixel_t p;
-  assign x = s_lut_x_i;  // == the position counters (asserted below)
+  assign x = s_lut_x_i;  // == the position counters (asserted in line_window)
   assign y = s_lut_y_i;
   assign p = s_lut_remap_i;
 
-  // ---------------------------------------------------------------------------
-  // Line buffer: one BRAM word per column, {p(x,y-2), p(x,y-1)}. The
-  // synchronous read of a pixel's column is issued on the edge before it:
-  // the address is the next pixel's column (next_col_q, or the one after the
-  // pixel taken on this edge). Only a one-pixel-wide frame reads on the edge
-  // that writes the same word; that read takes the written word (lb_byp_q).
-  // Words of rows a frame has not written yet are read but never used (row
-  // y-1 only from y >= 1, row y-2 only from y >= 2), so the stale word an
-  // early SOF pixel reads is harmless.
-  ceilnav_pkg::coord_t next_col_q, rd_col;
-  logic                lb_we, lb_byp, lb_byp_q;
-  logic [LbBits-1:0]   lb_wdata, lb_rdata_q, lb_byp_data_q, lb_word;
-  (* no_rw_check *)
-  logic [LbBits-1:0]   lb_mem_q[LbDepth];
-  ceilnav_pkg::pixel_t r1, r2;  // p(x,y-1), p(x,y-2)
-
-  always_comb begin
-    rd_col = frame_open_d ? next_col_q : '0;
-    if (take) rd_col = s_lut_eol_i ? '0 : x + CoordBits'(1);
-  end
-  assign lb_word  = lb_byp_q ? lb_byp_data_q : lb_rdata_q;
-  assign r1       = lb_word[PixelBits-1:0];
-  assign r2       = lb_word[LbBits-1:PixelBits];
-  // No write on an edge in reset (docs/rtl_style.md, "Reset").
-  assign lb_we    = rst_ni & take;
-  assign lb_wdata = {r1, p};
-  assign lb_byp   = take & s_lut_eol_i & (x == '0);
-
-  always_ff @(posedge clk_i) begin
-    if (lb_we) lb_mem_q[x] <= lb_wdata;
-  end
-  always_ff @(posedge clk_i) begin
-    lb_rdata_q <= lb_mem_q[rd_col];
-    lb_byp_q <= lb_byp;
-    lb_byp_data_q <= lb_wdata;
-  end
+  // The taken frame and the line buffer (line_window): r1, r2 = p(x,y-1),
+  // p(x,y-2) of this pixel's column; sr1, sr2 the same without the bypass of
+  // one-pixel-wide frames.
+  ceilnav_pkg::pixel_t r1, r2, sr1, sr2;
+  line_window u_window (
+    .clk_i,
+    .rst_ni,
+    .s_valid_i   (s_lut_valid_i),
+    .s_x_i       (s_lut_x_i),
+    .s_y_i       (s_lut_y_i),
+    .s_sof_i     (s_lut_sof_i),
+    .s_eol_i     (s_lut_eol_i),
+    .s_eof_i     (s_lut_eof_i),
+    .s_abort_i   (s_lut_abort_i),
+    .s_remap_i   (s_lut_remap_i),
+    .enable_i    (cfg_enable_i),
+    .take_o      (take),
+    .sof_take_o  (sof_take),
+    .frame_open_o(frame_open_q),
+    .r1_o        (r1),
+    .r2_o        (r2),
+    .sr1_o       (sr1),
+    .sr2_o       (sr2)
+  );
 
   // 3x3 window. Of columns x-2 and x-1 the block keeps what this pixel's
   // tests need, summed ahead on the edges that took those columns; the column
@@ -180,12 +156,9 @@ module edge_detect #(
                                                 ceilnav_pkg::pixel_t c);
     sum121 = SumBits'(a) + SumBits'({b, 1'b0}) + SumBits'(c);
   endfunction
-  ceilnav_pkg::pixel_t sr1, sr2;  // r1, r2 without the bypass
   logic [GBits-1:0]    gx, gy, gx_early, gy_early;
   logic [SMagBits-1:0] sobel_mag;
   logic                sobel_rises;
-  assign sr1         = lb_rdata_q[PixelBits-1:0];
-  assign sr2         = lb_rdata_q[LbBits-1:PixelBits];
   assign gx_early    = GBits'(p) - GBits'(s2_q);
   assign gy_early    = dy_q + GBits'(p);
   assign gx          = GBits'(sr2) + GBits'({sr1, 1'b0}) + gx_early;
@@ -328,10 +301,8 @@ module edge_detect #(
 
   always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
-      frame_open_q <= 1'b0;
       mode_q <= ModeH;  // EdgeConfig{} (unused until an SOF latches the port)
       thresh_q <= ThreshBits'(32);
-      next_col_q <= '0;
       w1_top_q <= '0;
       w1_bot_q <= '0;
       s1_q <= '0;
@@ -351,8 +322,6 @@ module edge_detect #(
       count_q <= '0;
       out_valid_q <= 1'b0;
     end else begin
-      frame_open_q <= frame_open_d;
-      next_col_q <= rd_col;
       if (sof_take) begin
         mode_q <= cfg_mode_i;
         thresh_q <= cfg_threshold_i;
@@ -416,22 +385,13 @@ module edge_detect #(
   assign unused = ^{s_lut_grey_i, s_lut_mask_i, late_unused};
 
 `ifndef SYNTHESIS
-  // Position counters, for the assertion only: the RTL uses pix.x/pix.y.
-  ceilnav_pkg::coord_t x_q, y_q, x_cnt, y_cnt;
+  // (The pixel position and the line buffer's read are checked in line_window.)
   logic [TdataBits-1:0] tdata_q;
   logic                 tlast_q, stalled_q;
-  assign x_cnt = s_lut_sof_i ? '0 : x_q;
-  assign y_cnt = s_lut_sof_i ? '0 : y_q;
   always_ff @(posedge clk_i) begin
     if (!rst_ni) begin
-      x_q <= '0;
-      y_q <= '0;
       stalled_q <= 1'b0;
     end else begin
-      if (take) begin
-        x_q <= s_lut_eol_i ? '0 : x_cnt + CoordBits'(1);
-        y_q <= s_lut_eol_i ? y_cnt + CoordBits'(1) : y_cnt;
-      end
       stalled_q <= m_axis_edges_tvalid_o & ~m_axis_edges_tready_i;
       tdata_q <= m_axis_edges_tdata_o;
       tlast_q <= m_axis_edges_tlast_o;
@@ -439,16 +399,6 @@ module edge_detect #(
   end
   always_ff @(posedge clk_i) begin
     if (rst_ni) begin
-      if (take) begin
-        assert (s_lut_x_i == x_cnt && s_lut_y_i == y_cnt)
-        else $error("edge_detect: pixel (%0d, %0d) but counters (%0d, %0d)",
-                    s_lut_x_i, s_lut_y_i, x_cnt, y_cnt);
-        // The line buffer read this pixel's column on the edge before (an
-        // early SOF pixel finds the read of the aborted frame's next column:
-        // row 0 uses no line buffer word, and its stale words are never read).
-        assert (s_lut_sof_i || lb_byp || next_col_q == x)
-        else $error("edge_detect: line buffer read column %0d, pixel at %0d", next_col_q, x);
-      end
       // Only frame_check's early SOF carries an abort and a pixel.
       assert (!(s_lut_abort_i && s_lut_valid_i) || s_lut_sof_i)
       else $error("edge_detect: abort on a pixel that is not an SOF");

@@ -8,14 +8,9 @@ namespace ceilnav::stream {
 
 namespace {
 
-struct Window {
-  // Columns x-2, x-1, x of rows y-2 (top), y-1 (mid), y (bot).
-  uint8_t t0, m0, b0, t1, m1, b1, t2, m2, b2;
-};
-
 // The edge test of the pixel at (x, y) with its window: true and *e filled if
 // the pixel (or, for Sobel, the window centre) is an edge point.
-bool detect(EdgeMode mode, uint16_t threshold, uint32_t x, uint32_t y, const Window& w,
+bool detect(EdgeMode mode, uint16_t threshold, uint32_t x, uint32_t y, const Window3x3& w,
             EdgeRecord* e) {
   int d = 0;
   int mag = 0;
@@ -39,10 +34,8 @@ bool detect(EdgeMode mode, uint16_t threshold, uint32_t x, uint32_t y, const Win
       break;
     case EdgeMode::kSobel: {
       if (x < 2 || y < 2) return false;
-      const int gx =
-          (int{w.t2} + 2 * int{w.m2} + int{w.b2}) - (int{w.t0} + 2 * int{w.m0} + int{w.b0});
-      const int gy =
-          (int{w.b0} + 2 * int{w.b1} + int{w.b2}) - (int{w.t0} + 2 * int{w.t1} + int{w.t2});
+      const int gx = sobel_gx(w);
+      const int gy = sobel_gy(w);
       mag = std::min(4095, std::abs(gx) + std::abs(gy));
       rises = gx > 0;
       kind = EdgeKind::kSobel;
@@ -61,8 +54,7 @@ bool detect(EdgeMode mode, uint16_t threshold, uint32_t x, uint32_t y, const Win
 
 }  // namespace
 
-EdgeDetector::EdgeDetector(uint32_t fifo_depth)
-    : line1_(fp::datapath::kMaxWidth), line2_(fp::datapath::kMaxWidth) {
+EdgeDetector::EdgeDetector(uint32_t fifo_depth) {
   if (fifo_depth < 8 || (fifo_depth & (fifo_depth - 1)) != 0) {
     throw std::invalid_argument("EdgeDetector: fifo_depth must be a power of two >= 8");
   }
@@ -72,11 +64,7 @@ EdgeDetector::EdgeDetector(uint32_t fifo_depth)
 
 void EdgeDetector::reset() {
   cfg_q_ = {};
-  frame_open_q_ = false;
-  x_q_ = 0;
-  y_q_ = 0;
-  win1_q_ = {};
-  win2_q_ = {};
+  window_.reset();
   stage_q_ = {};
   frame_q_ = {};
   stats_q_ = {};
@@ -159,53 +147,25 @@ void EdgeDetector::clock(const LutBeat& in, bool m_axis_edges_tready) {
   // ---- The pixel: its edge test, staged for the next edge's admission.
   const PixelBeat& pix = in.pix;
   Stage stage_d{};
-  stage_d.abort = pix.abort && frame_open_q_;
-  const bool take = pix.valid && (pix.sof ? cfg_in_.enable : frame_open_q_);
-  if (take) {
+  const LineWindow::Pixel px = window_.clock(pix, in.remap, cfg_in_.enable, "EdgeDetector");
+  stage_d.abort = px.abort;
+  if (px.take) {
     if (pix.sof) cfg_q_ = cfg_in_;
-    const uint32_t x = pix.sof ? 0u : x_q_;
-    const uint32_t y = pix.sof ? 0u : y_q_;
-    if (x != pix.x || y != pix.y) {
-      throw std::logic_error("EdgeDetector: pixel position differs from the counters");
-    }
-    const Column cur{line2_[x], line1_[x], in.remap};
-    const Window w{win2_q_.top, win2_q_.mid, win2_q_.bot, win1_q_.top, win1_q_.mid,
-                   win1_q_.bot, cur.top,     cur.mid,     cur.bot};
     stage_d.sof = pix.sof;
-    stage_d.hit = detect(cfg_q_.mode, cfg_q_.threshold, x, y, w, &stage_d.edge);
+    stage_d.hit = detect(cfg_q_.mode, cfg_q_.threshold, px.x, px.y, px.w, &stage_d.edge);
     stage_d.eof = pix.eof;
-    line2_[x] = cur.mid;
-    line1_[x] = cur.bot;
-    win2_q_ = win1_q_;
-    win1_q_ = cur;
-    x_q_ = static_cast<uint16_t>(pix.eol ? 0u : x + 1);
-    y_q_ = static_cast<uint16_t>(pix.eol ? y + 1 : y);
   }
   stage_q_ = stage_d;
-
-  if (pix.valid && pix.sof) {
-    frame_open_q_ = take && !pix.eof;  // a disabled frame is not opened
-  } else if (take) {
-    frame_open_q_ = !pix.eof;
-  } else if (pix.abort) {
-    frame_open_q_ = false;
-  }
 }
 
 void EdgeDetector::scan_frame(const EdgeConfig& cfg, const uint8_t* remap, uint32_t width,
                               uint32_t height, std::vector<EdgeRecord>& edges) {
-  auto at = [&](uint32_t x, uint32_t y) { return remap[size_t{y} * width + x]; };
-  auto col = [&](uint32_t x, uint32_t y) {
-    return Column{y >= 2 ? at(x, y - 2) : uint8_t{0}, y >= 1 ? at(x, y - 1) : uint8_t{0}, at(x, y)};
-  };
   for (uint32_t y = 0; y < height; ++y) {
     for (uint32_t x = 0; x < width; ++x) {
-      const Column c0 = x >= 2 ? col(x - 2, y) : Column{};
-      const Column c1 = x >= 1 ? col(x - 1, y) : Column{};
-      const Column c2 = col(x, y);
-      const Window w{c0.top, c0.mid, c0.bot, c1.top, c1.mid, c1.bot, c2.top, c2.mid, c2.bot};
       EdgeRecord e;
-      if (detect(cfg.mode, cfg.threshold, x, y, w, &e)) edges.push_back(e);
+      if (detect(cfg.mode, cfg.threshold, x, y, frame_window(remap, width, x, y), &e)) {
+        edges.push_back(e);
+      }
     }
   }
 }

@@ -11,6 +11,7 @@
 #include "common/edge_record.hpp"
 #include "fixedpoint/datapath.hpp"
 #include "stream/beat.hpp"
+#include "stream/line_window.hpp"
 
 namespace ceilnav::stream {
 
@@ -83,24 +84,10 @@ class EdgeDetector {
     EdgeRecord edge{};
     bool eof = false;  // the frame's last pixel: its trailer and counters
   };
-  // One column of the 3x3 window: rows y-2, y-1, y.
-  struct Column {
-    uint8_t top = 0;
-    uint8_t mid = 0;
-    uint8_t bot = 0;
-  };
-
   EdgeConfig cfg_in_{};  // input port
   EdgeConfig cfg_q_{};   // latched at SOF
 
-  bool frame_open_q_ = false;
-  uint16_t x_q_ = 0;  // position of the next pixel (checked against the beat)
-  uint16_t y_q_ = 0;
-  Column win1_q_{};  // window column x-1
-  Column win2_q_{};  // window column x-2
-  // Line buffer (BRAM): per column the pixels of rows y-1 and y-2.
-  std::vector<uint8_t> line1_;
-  std::vector<uint8_t> line2_;
+  LineWindow window_;  // the taken frame, the line buffer and the 3x3 window
 
   Stage stage_q_{};      // the event stage: the last edge's input, admitted on this one
   EdgeStats frame_q_{};  // counters of the open frame

@@ -29,6 +29,7 @@
 
 #include "fixedpoint/datapath.hpp"
 #include "fixedpoint/hough_trig.hpp"
+#include "fixedpoint/orientation.hpp"
 #include "regmap_model.hpp"
 
 namespace {
@@ -469,26 +470,51 @@ std::string sv_widths() {
   line("HoughWeightBits", dp::hough::kWeightBits, "hough vote weight (y + 1) >> shift");
   line("HoughRhoSumBits", dp::hough::kRhoSumBits, "hough x C + y S + (W << 14), signed");
   line("HoughTrigFrac", ceilnav::fp::hough::kTrigFrac, "hough cos/sin table: s1.14");
-  // The cos/sin table of fixedpoint/hough_trig.hpp: entry k (k degrees) at
-  // bits [16 k +: 16], two's complement s1.14.
-  {
-    const auto& t = ceilnav::fp::hough::trig_table();
-    const int n = ceilnav::fp::hough::kTableEntries;
-    const int bits = ceilnav::fp::hough::kTrigBits;
-    for (const bool is_cos : {true, false}) {
-      o << "  // hough " << (is_cos ? "cos" : "sin") << "(k degrees) * 2^14, k = 0 .. " << n - 1
-        << " (entry k at bits [" << bits << " k +: " << bits << "])\n"
-        << "  localparam logic [" << n * bits - 1 << ":0] Hough" << (is_cos ? "Cos" : "Sin")
-        << " = {";
-      for (int k = n - 1; k >= 0; --k) {
-        const auto v = static_cast<uint32_t>(is_cos ? t.cos[static_cast<size_t>(k)]
-                                                    : t.sin[static_cast<size_t>(k)]) &
-                       ((1u << bits) - 1u);
-        o << (k == n - 1 ? "" : ",") << ((n - 1 - k) % 8 == 0 ? "\n    " : " ") << bits << "'h"
-          << std::hex << std::setw(4) << std::setfill('0') << v << std::dec << std::setfill(' ');
-      }
-      o << "\n  };\n";
+  // A constant table as one packed vector: entry i at bits [bits i +: bits],
+  // eight entries a line, the highest first (i named `index` in the comment).
+  const auto table = [&o](const std::string& comment, char index, const std::string& name, int bits,
+                          const std::vector<uint32_t>& values) {
+    const int n = static_cast<int>(values.size());
+    o << "  // " << comment << " (entry " << index << " at bits [" << bits << " " << index
+      << " +: " << bits << "])\n"
+      << "  localparam logic [" << n * bits - 1 << ":0] " << name << " = {";
+    for (int k = n - 1; k >= 0; --k) {
+      const uint32_t v = values[static_cast<size_t>(k)] & ((1u << bits) - 1u);
+      o << (k == n - 1 ? "" : ",") << ((n - 1 - k) % 8 == 0 ? "\n    " : " ") << bits << "'h"
+        << std::hex << std::setw((bits + 3) / 4) << std::setfill('0') << v << std::dec
+        << std::setfill(' ');
     }
+    o << "\n  };\n";
+  };
+  // The cos/sin table of fixedpoint/hough_trig.hpp: entry k (k degrees),
+  // two's complement s1.14.
+  {
+    namespace fh = ceilnav::fp::hough;
+    const auto& t = fh::trig_table();
+    const std::string range =
+        "(k degrees) * 2^14, k = 0 .. " + std::to_string(fh::kTableEntries - 1);
+    table("hough cos" + range, 'k', "HoughCos", fh::kTrigBits,
+          std::vector<uint32_t>(t.cos.begin(), t.cos.end()));
+    table("hough sin" + range, 'k', "HoughSin", fh::kTrigBits,
+          std::vector<uint32_t>(t.sin.begin(), t.sin.end()));
+  }
+  {
+    namespace fo = ceilnav::fp::orientation;
+    line("OriGradBits", fo::kGradBits, "orientation Sobel gx, gy (signed)");
+    line("OriAbsBits", fo::kAbsBits, "orientation |gx|, |gy|");
+    line("OriDivBits", fo::kDivBits, "orientation ratio: quotient bits after the integer bit");
+    line("OriAngleFrac", fo::kAngleFrac, "orientation angle: u0.12 of 90 degrees");
+    line("OriAtanBits", fo::kAtanBits, "orientation arctangent table entry");
+    line("OriAtanEntries", fo::kAtanEntries, "orientation arctangent table entries");
+    line("OriWeightBits", fo::kWeightBits, "orientation weight (alpha-max-beta-min)");
+    line("OriBinBits", fo::kBinBits, "orientation histogram bin (saturating)");
+    line("OriThreshBits", fo::kThresholdBits, "orientation threshold");
+    // The arctangent table of fixedpoint/orientation.hpp: atan(q / 256) in
+    // units of 90 / 4096 degrees.
+    const auto& t = fo::atan_table();
+    table("orientation atan(q / 256) * 4096 / 90 degrees, q = 0 .. " +
+              std::to_string(fo::kAtanEntries - 1),
+          'q', "OriAtan", fo::kAtanBits, std::vector<uint32_t>(t.begin(), t.end()));
   }
   line("M00Bits", cm::kMomentBits[0], "class_moments m00");
   line("M10Bits", cm::kMomentBits[1], "class_moments m10, m01");
