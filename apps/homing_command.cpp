@@ -63,7 +63,8 @@ int replay_frames(const HomingOptions& o) {
   int frames_with_ok = 0;
   for (std::size_t i = 0; i < files.size(); ++i) {
     const cv::Mat grey = host::read_grey_frame(files[i]);
-    const hh::OrientationHistogram h = golden::orientation_histogram_ref(grey);
+    const std::vector<uint32_t> bins = golden::orientation_histogram_fixed(grey);  // the device's
+    const hh::OrientationHistogram h(bins.begin(), bins.end());
     bool any = false;
     for (std::size_t k = 0; k < trackers.size(); ++k) {
       for (int q = -1; q < 4; ++q) {

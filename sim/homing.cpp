@@ -45,8 +45,10 @@ class FrameSource {
     grey = gc::render_frame(camera, world.ceiling, lighting,
                             gc::camera_pose(world.camera, robot.x_m, robot.y_m, robot.yaw_rad),
                             render);
-    golden::OrientationParams op;
-    histogram = golden::orientation_histogram_ref(grey, op);
+    // The orientation block's histogram (its bit-true golden: what the
+    // device reads out, docs/blocks/orientation.md).
+    const std::vector<uint32_t> bins = golden::orientation_histogram_fixed(grey);
+    histogram.assign(bins.begin(), bins.end());
   }
 };
 

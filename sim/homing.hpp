@@ -3,7 +3,8 @@
 // navigation layer's drift model) under a structured ceiling (a ceiling
 // file, golden/ceiling/ceiling_file.hpp). Every frame is rendered at the
 // camera's true pose under the return lighting, its orientation histogram
-// taken, the site tracked (host::homing::SiteTracker), turned into a
+// taken (the orientation block's, golden::orientation_histogram_fixed),
+// the site tracked (host::homing::SiteTracker), turned into a
 // HomingMeasurement and fed to nav::HomingServo, whose command reaches the
 // wheels `latency_s` after the exposure. Between sites the robot follows
 // the map's odometric paths on its wheel odometry alone.
@@ -157,9 +158,9 @@ struct CaptureZone {
   int false_homings = 0;  // homed, but outside the success bounds
 };
 struct CaptureParams {
-  std::vector<double> radii_m{0.25, 0.5, 0.75, 1.0, 1.15, 1.3, 1.5};
+  std::vector<double> radii_m{0.5, 0.75, 1.0, 1.15, 1.3, 1.5};
   int bearings = 8;
-  std::vector<double> heading_offsets_rad{0.0, 0.7854, -1.5708, 3.14159};
+  std::vector<double> heading_offsets_rad{0.0, 1.5708, 3.14159};
   double success_position_m = 0.005;
   double success_heading_rad = 0.0087;
 };

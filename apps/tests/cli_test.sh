@@ -767,6 +767,13 @@ if $CEILNAV homing --loops 1 --map "$ho/map/map.json" --ceiling "$ho/ceiling.yam
 else
   bad "homing --map" "$(cat "$work/homing_map.err" "$work/homing_map/summary.json" 2>/dev/null | tail -8)"
 fi
+# A study ceiling (docs/homing.md, "Held-out ceilings"): the hall at 3 m.
+if $CEILNAV homing --loops 1 --ceiling "$here/../../examples/homing/study_hall.yaml" --out "$work/homing_hall" \
+  --quiet --require --no-plot >/dev/null 2>"$work/homing_hall.err"; then
+  ok "homing study_hall"
+else
+  bad "homing study_hall" "$(cat "$work/homing_hall.err" "$work/homing_hall/summary.json" 2>/dev/null | tail -8)"
+fi
 printf 'format: ceilnav_ceiling\nversion: 1\nheight_m: 3\nbogus_key: 1\n' >"$work/bad_ceiling.yaml"
 expect_error "homing bad ceiling" "bogus_key" "$work/homing_bad1" -- homing --out "$work/homing_bad1" --ceiling "$work/bad_ceiling.yaml"
 printf 'format: ceilnav_ceiling\nversion: 1\nheight_m: 3\nsites:\n  - {name: a, x_m: 0, y_m: 0, yaw_deg: 0}\n' >"$work/one_site.yaml"

@@ -4,6 +4,7 @@
 #include "golden/ceiling/ceiling_file.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <string>
 
@@ -96,6 +97,26 @@ TEST(CeilingFile, BadFilesAreRefusedWithTheKeyNamed) {
   expect_refused(std::string(kMinimal) + "beams:\n  - {x0_m: 1, y0_m: 1, x1_m: 1, y1_m: 1}\n",
                  "beams[0]");
   EXPECT_THROW(load_ceiling("/nonexistent/ceiling.yaml"), CeilingError);
+}
+
+}  // namespace
+}  // namespace ceilnav::golden::ceiling
+
+namespace ceilnav::golden::ceiling {
+namespace {
+
+// The study ceilings (docs/homing.md, "Held-out ceilings") load, and each
+// has three sites for the race.
+TEST(CeilingFile, TheStudyCeilingsLoad) {
+  int n = 0;
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::string(CEILNAV_SOURCE_DIR) + "/examples/homing")) {
+    if (e.path().filename().string().rfind("study_", 0) != 0) continue;
+    const CeilingFile f = load_ceiling(e.path().string());
+    EXPECT_EQ(f.sites.size(), 3u) << e.path();
+    ++n;
+  }
+  EXPECT_EQ(n, 5);
 }
 
 }  // namespace
