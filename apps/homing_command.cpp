@@ -75,8 +75,7 @@ int replay_frames(const HomingOptions& o) {
         csv.stream() << fmt::format("{},{},{},{},{:.4f},{:.2f},{:.2f},{:.3f}\n",
                                     files[i].filename().string(), k + 1,
                                     q < 0 ? std::string("360") : fmt::format("fast {}", 90 * q),
-                                    hh::to_string(r.status), r.score, r.x_px, r.y_px,
-                                    r.gamma_deg);
+                                    hh::to_string(r.status), r.score, r.x_px, r.y_px, r.gamma_deg);
       }
     }
     frames_with_ok += any;
@@ -88,9 +87,8 @@ int replay_frames(const HomingOptions& o) {
   j["frames_dir"] = o.frames_dir;
   j["frames"] = files.size();
   j["sites"] = map.sites.size();
-  j["searches"] = {{"ok", counts["ok"]},
-                   {"ambiguous", counts["ambiguous"]},
-                   {"not_found", counts["not_found"]}};
+  j["searches"] = {
+      {"ok", counts["ok"]}, {"ambiguous", counts["ambiguous"]}, {"not_found", counts["not_found"]}};
   j["frames_with_a_site"] = frames_with_ok;
   {
     AtomicFile f(out.path("summary.json"));

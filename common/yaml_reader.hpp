@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <iterator>
 #include <string>
 #include <system_error>
 
@@ -66,6 +67,15 @@ void write_world_file(const std::string& path, const std::string& text) {
   }
 }
 
+// The whole text of `path`; throws Error "path: cannot open: why".
+template <class Error>
+std::string read_world_text(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open: " + std::strerror(errno));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return text;
+}
+
 template <class Error>
 struct YamlReader {
   std::string source;
@@ -114,6 +124,27 @@ struct YamlReader {
   std::string text(const YAML::Node& node, const std::string& key) const {
     if (!node || !node.IsScalar()) fail(key, "must be a string");
     return node.Scalar();
+  }
+
+  // The root of a world file: `source_text` parsed (YAML, or JSON read as YAML), a
+  // map whose keys are `allowed` and hold `required` (format and version
+  // among them), `format` equal to `format_name` and `version` 1.
+  YAML::Node world_root(const std::string& source_text, const char* format_name,
+                        std::initializer_list<const char*> allowed,
+                        std::initializer_list<const char*> required) const {
+    YAML::Node root;
+    try {
+      root = YAML::Load(source_text);
+    } catch (const YAML::Exception& e) {
+      fail("", std::string("not YAML or JSON: ") + e.what());
+    }
+    if (!root.IsMap()) fail("", "top level is not a map of keys");
+    keys(root, "", allowed, required);
+    if (text(root["format"], "format") != format_name) {
+      fail("format", std::string("must be '") + format_name + "'");
+    }
+    if (integer(root["version"], "version") != 1) fail("version", "must be 1");
+    return root;
   }
 
   YAML::Node sequence(const YAML::Node& node, const std::string& key) const {

@@ -172,8 +172,7 @@ HomingCommand HomingServo::update(const HomingMeasurement& m) {
   } else if (phase_ == HomingPhase::orientation) {
     // eta_3 = -lambda_3(gamma) gamma: the rotation in place.
     const double t = raw.turn_rad;
-    cmd.omega_rad_s =
-        std::clamp(p.orientation(t) * t, -p.max_yaw_rate_rad_s, p.max_yaw_rate_rad_s);
+    cmd.omega_rad_s = std::clamp(p.orientation(t) * t, -p.max_yaw_rate_rad_s, p.max_yaw_rate_rad_s);
   }
   return cmd;
 }

@@ -299,10 +299,10 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
         finished = true;
       }
       const bool at_rest = robot.speed_m_s() == 0.0 && robot.yaw_rate_rad_s() == 0.0;
-      settled =
-          f.command.phase == nav::HomingPhase::done && f.measurement.status == nav::MeasurementStatus::ok && at_rest
-              ? settled + 1
-              : 0;
+      settled = f.command.phase == nav::HomingPhase::done &&
+                        f.measurement.status == nav::MeasurementStatus::ok && at_rest
+                    ? settled + 1
+                    : 0;
       if (settled >= p.settle_frames) {
         run.outcome = HomingOutcome::homed;
         finished = true;

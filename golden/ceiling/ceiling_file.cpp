@@ -261,32 +261,18 @@ void validate(const CeilingFile& f, const std::string& source) {
 
 CeilingFile parse_ceiling(const std::string& text, const std::string& source) {
   const Reader r{{source}};
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    r.fail("", std::string("not YAML or JSON: ") + e.what());
-  }
-  if (!root.IsMap()) r.fail("", "top level is not a map of keys");
-  r.keys(root, "",
-         {"format", "version", "name", "height_m", "plain_albedo", "tiles", "lamps", "vents",
-          "beams", "spots", "lighting", "return_lighting", "camera", "sites"},
-         {"format", "version", "height_m"});
-  if (r.text(root["format"], "format") != "ceilnav_ceiling") {
-    r.fail("format", "must be 'ceilnav_ceiling'");
-  }
-  if (r.integer(root["version"], "version") != 1) r.fail("version", "must be 1");
+  const YAML::Node root =
+      r.world_root(text, "ceilnav_ceiling",
+                   {"format", "version", "name", "height_m", "plain_albedo", "tiles", "lamps",
+                    "vents", "beams", "spots", "lighting", "return_lighting", "camera", "sites"},
+                   {"format", "version", "height_m"});
   CeilingFile f = read_file(r, root);
   validate(f, source);
   return f;
 }
 
 CeilingFile load_ceiling(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw CeilingError(path + ": cannot open: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_ceiling(text.str(), path);
+  return parse_ceiling(read_world_text<CeilingError>(path), path);
 }
 
 std::string ceiling_to_yaml(const CeilingFile& f) {

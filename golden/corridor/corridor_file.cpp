@@ -138,21 +138,11 @@ Pose read_pose(const Reader& r, const YAML::Node& m) {
 
 CorridorFile parse_corridor(const std::string& text, const std::string& source) {
   const Reader r{{source}};
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    r.fail("", std::string("not YAML or JSON: ") + e.what());
-  }
-  if (!root.IsMap()) r.fail("", "top level is not a map of keys");
-  r.keys(root, "",
-         {"format", "version", "name", "geometry", "surfaces", "lighting", "lamps", "seams",
-          "cornice", "skirting", "doors", "camera"},
-         {"format", "version", "geometry"});
-  if (r.text(root["format"], "format") != "ceilnav_corridor") {
-    r.fail("format", "must be 'ceilnav_corridor'");
-  }
-  if (r.integer(root["version"], "version") != 1) r.fail("version", "must be 1");
+  const YAML::Node root =
+      r.world_root(text, "ceilnav_corridor",
+                   {"format", "version", "name", "geometry", "surfaces", "lighting", "lamps",
+                    "seams", "cornice", "skirting", "doors", "camera"},
+                   {"format", "version", "geometry"});
   CorridorFile file;
   file.corridor = read_corridor(r, root);
   validate(file.corridor, source);
@@ -164,11 +154,7 @@ CorridorFile parse_corridor(const std::string& text, const std::string& source) 
 }
 
 CorridorFile load_corridor(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw CorridorError(path + ": cannot open: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_corridor(text.str(), path);
+  return parse_corridor(read_world_text<CorridorError>(path), path);
 }
 
 std::string corridor_to_yaml(const CorridorFile& file) {

@@ -72,8 +72,7 @@ TEST(NoFalseHoming, TheDefaultSitesAreNotInFramesWithoutThem) {
         const TrackResult fast = t.track(f, h, std::nullopt, g);
         if (fast.status == TrackStatus::ok) {
           ++claimed;
-          std::printf("frame %zu site %zu: fast %.0f ok, score %.3f\n", index, site, g,
-                      fast.score);
+          std::printf("frame %zu site %zu: fast %.0f ok, score %.3f\n", index, site, g, fast.score);
         }
         ++searches;
       }
