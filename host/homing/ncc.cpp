@@ -44,8 +44,10 @@ double BlockNcc::block_deviation(int x, int y) const {
 }
 
 double BlockNcc::score(const NccTemplate& tmpl, int x, int y) const {
+  const double dev = block_deviation(x, y);
+  if (dev < kMinRms * t_) return 0.0;  // a flat block: no evidence
   const double num = tmpl.zero_mean.dot(image_(cv::Rect(x, y, t_, t_)));
-  return quotient(num, std::sqrt(tmpl.norm2) * block_deviation(x, y));
+  return quotient(num, std::sqrt(tmpl.norm2) * dev);
 }
 
 cv::Mat BlockNcc::scores(const NccTemplate& tmpl) {
@@ -73,7 +75,9 @@ cv::Mat BlockNcc::scores(const NccTemplate& tmpl) {
     const float* c = corr.ptr<float>(y);
     const double* d = deviation_.ptr<double>(y);
     float* o = out.ptr<float>(y);
-    for (int x = 0; x < cols_; ++x) o[x] = static_cast<float>(quotient(c[x], norm * d[x]));
+    for (int x = 0; x < cols_; ++x) {
+      o[x] = d[x] < kMinRms * t_ ? 0.0f : static_cast<float>(quotient(c[x], norm * d[x]));
+    }
   }
   return out;
 }

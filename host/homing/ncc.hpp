@@ -25,6 +25,12 @@ NccTemplate ncc_template(const cv::Mat& tmpl);
 // cv::matchTemplate: num / den while |num| < den, +-1 up to 1.125 den, else 0.
 class BlockNcc {
  public:
+  // A block whose grey levels scatter by less than this RMS (below a
+  // camera's noise) scores 0: it holds no structure to match, and the
+  // quotient's rounding would otherwise score it +-1 (cv::matchTemplate
+  // does: a saturated area of a real photo matched a site at 1.000).
+  static constexpr double kMinRms = 1.0;
+
   BlockNcc(const cv::Mat& image, int t);
   int cols() const { return cols_; }
   int rows() const { return rows_; }

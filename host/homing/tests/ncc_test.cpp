@@ -1,6 +1,6 @@
 // BlockNcc against cv::matchTemplate (TM_CCOEFF_NORMED): every offset's
 // score, by the dot product and by the spectra, on smoothed noise with a
-// flat patch (nil variance), at the coarse search's and the refinement's
+// flat patch (nil variance: scored 0, no evidence), at the coarse search's and the refinement's
 // sizes, and templates that are not zero-mean.
 #include "host/homing/ncc.hpp"
 
@@ -18,7 +18,8 @@ cv::Mat smoothed_noise(int rows, int cols, uint64_t seed) {
   return out;
 }
 
-void expect_as_match_template(const cv::Mat& image, const cv::Mat& tmpl) {
+void expect_as_match_template(const cv::Mat& image, const cv::Mat& tmpl, bool expect_flat = false) {
+  int flat = 0;
   cv::Mat want;
   cv::matchTemplate(image, tmpl, want, cv::TM_CCOEFF_NORMED);
   BlockNcc ncc(image, tmpl.cols);
@@ -30,12 +31,25 @@ void expect_as_match_template(const cv::Mat& image, const cv::Mat& tmpl) {
   double worst_dot = 0.0, worst_dft = 0.0;
   for (int y = 0; y < want.rows; ++y) {
     for (int x = 0; x < want.cols; ++x) {
+      // A block flatter than BlockNcc::kMinRms scores 0 (cv::matchTemplate:
+      // 0 or +-1 by its quotient's rounding).
+      cv::Scalar mean, rms;
+      cv::meanStdDev(image(cv::Rect(x, y, tmpl.cols, tmpl.rows)), mean, rms);
+      if (rms[0] < BlockNcc::kMinRms) {
+        EXPECT_EQ(ncc.score(prepared, x, y), 0.0);
+        EXPECT_EQ(all.at<float>(y, x), 0.0f);
+        ++flat;
+        continue;
+      }
       worst_dot = std::max(worst_dot, std::abs(ncc.score(prepared, x, y) - want.at<float>(y, x)));
       worst_dft = std::max(
           worst_dft, std::abs(static_cast<double>(all.at<float>(y, x) - want.at<float>(y, x))));
     }
   }
   EXPECT_LT(worst_dot, 1e-4) << image.size() << " " << tmpl.size();
+  if (expect_flat) {
+    EXPECT_GT(flat, 0);
+  }
   EXPECT_LT(worst_dft, 1e-4) << image.size() << " " << tmpl.size();
 }
 
@@ -47,8 +61,8 @@ TEST(BlockNcc, ScoresAsMatchTemplate) {
   area(cv::Rect(0, 0, 40, 30)).setTo(200.0);
   cv::Mat tmpl = smoothed_noise(24, 24, 2);
   area(cv::Rect(70, 50, 24, 24)).copyTo(tmpl(cv::Rect(0, 0, 24, 24)));
-  expect_as_match_template(area, tmpl);
-  expect_as_match_template(area, smoothed_noise(24, 24, 3) + 1000.0);
+  expect_as_match_template(area, tmpl, true);
+  expect_as_match_template(area, smoothed_noise(24, 24, 3) + 1000.0, true);
   const cv::Mat win = smoothed_noise(108, 108, 4);
   expect_as_match_template(win, win(cv::Rect(5, 7, 96, 96)).clone());
   expect_as_match_template(win, smoothed_noise(96, 96, 5));
