@@ -192,7 +192,10 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
   // the site's 0.999 on the 2.6 m study ceiling).
   track_opt.refine_px = std::max(p.tracker.refine_px, 14);
   const hh::Site& recorded = map.sites[static_cast<std::size_t>(site)].site;
-  const hh::SiteTracker acquirer(recorded, acquire_opt), tracker(recorded, track_opt);
+  hh::TrackerOptions reacquire_opt = track_opt;
+  reacquire_opt.search_radius_px = 2.5 * p.track_radius_px;
+  const hh::SiteTracker acquirer(recorded, acquire_opt), tracker(recorded, track_opt),
+      reacquirer(recorded, reacquire_opt);
 
   nav::HomingServoParams sp = p.servo;
   sp.camera_forward_m = map.sites[static_cast<std::size_t>(site)].look_forward_m;
@@ -210,6 +213,7 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
   applied.phase = nav::HomingPhase::position;
   bool acquired = false;
   bool have_last_error = false;
+  int disagreements = 0;
   nav::HomingError last_error;
   nav::Pose2 moved;  // the odometry's motion since the last consistent match
   int lost = 0, settled = 0;
@@ -236,7 +240,12 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       if (acquired) {
         r = tracker.track(src.grey, src.histogram, last_px, last_gamma);
       } else {
-        if (heading_prior_rad) {
+        if (have_last_error) {
+          // Lost after a good match: the odometry since it predicts the
+          // turn (the quadrant); search about the last place, wider.
+          r = reacquirer.track(src.grey, src.histogram, last_px,
+                               last_gamma - moved.yaw_rad * 180.0 / std::numbers::pi);
+        } else if (heading_prior_rad) {
           r = acquirer.track(src.grey, src.histogram, std::nullopt,
                              *heading_prior_rad * 180.0 / std::numbers::pi);
         }
@@ -281,10 +290,14 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       f.command = servo.update(f.measurement);
       ++run.frames;
       if (!f.consistent) {
-        // Searched again from the next frame (the whole view).
+        // Searched again from the next frame, about the odometry's
+        // prediction from the last good match; after three disagreements
+        // in a row that match itself is doubted and dropped.
         acquired = false;
-        have_last_error = false;
-        moved = {};
+        if (++disagreements >= 3) {
+          have_last_error = false;
+          moved = {};
+        }
         if (++lost >= p.max_lost_frames) {
           run.outcome = HomingOutcome::lost;
           finished = true;
@@ -292,6 +305,7 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       } else if (r.status == hh::TrackStatus::ok) {
         acquired = true;
         lost = 0;
+        disagreements = 0;
         last_px = {r.x_px, r.y_px};
         last_gamma = r.gamma_deg;
       } else if (++lost >= p.max_lost_frames) {

@@ -68,7 +68,9 @@ struct HomingSimParams {
   // predicted from the last match and the wheel odometry since, within
   // consistency_position_m + 10 % of the motion and consistency_turn_rad +
   // 5 % of the turn; else it is dropped (counted as lost) and the site
-  // searched for again over the whole view.
+  // searched for again: within 2.5 track_radius_px of the last good match
+  // in the fast mode about the turn the odometry predicts, then over the
+  // whole view.
   double consistency_position_m = 0.02;
   double consistency_turn_rad = 0.035;
   double max_time_s = 60.0;
