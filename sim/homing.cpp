@@ -287,7 +287,31 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
           ++run.inconsistent_frames;
         }
       }
-      f.command = servo.update(f.measurement);
+      if (f.measurement.status == nav::MeasurementStatus::ok || !have_last_error) {
+        f.command = servo.update(f.measurement);
+      } else {
+        // No match this frame (the site at the frame's edge while the robot
+        // turns toward it, or a match dropped): the servo goes on with the
+        // error the odometry predicts from the last good match, p' = R(-dpsi)
+        // (p - d), g' = g - dpsi, as the camera's measurement would give it
+        // (s = p' + R(g') c - c). It is never `done` on a prediction: the
+        // homing ends on matched frames only.
+        const double c = std::cos(moved.yaw_rad), sn = std::sin(moved.yaw_rad);
+        const double dx = last_error.forward_m - moved.x_m, dy = last_error.left_m - moved.y_m;
+        const double g = nav::wrap_angle(last_error.turn_rad - moved.yaw_rad);
+        const double cf = sp.camera_forward_m, cl = sp.camera_left_m;
+        nav::HomingMeasurement predicted = f.measurement;
+        predicted.status = nav::MeasurementStatus::ok;
+        predicted.forward_m = c * dx + sn * dy + std::cos(g) * cf - std::sin(g) * cl - cf;
+        predicted.left_m = -sn * dx + c * dy + std::sin(g) * cf + std::cos(g) * cl - cl;
+        predicted.turn_rad = g;
+        f.command = servo.update(predicted);
+        f.predicted = true;
+        // Where the site should reappear: the search's centre.
+        const Eigen::Vector2d px = model.distort_to_pixel(
+            {-predicted.left_m / ceiling_distance, predicted.forward_m / ceiling_distance});
+        last_px = {px.x(), px.y()};
+      }
       ++run.frames;
       if (!f.consistent) {
         // Searched again from the next frame, about the odometry's

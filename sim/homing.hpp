@@ -113,6 +113,7 @@ struct HomingFrame {
   nav::HomingError true_error;  // the robot's error toward the site's true pose
   nav::HomingCommand command;
   bool consistent = true;  // false: the match disagreed with the odometry (dropped)
+  bool predicted = false;  // the command came from the odometry's prediction (no match)
 };
 
 struct HomingRun {
