@@ -213,7 +213,6 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
   applied.phase = nav::HomingPhase::position;
   bool acquired = false;
   bool have_last_error = false;
-  int disagreements = 0;
   nav::HomingError last_error;
   nav::Pose2 moved;  // the odometry's motion since the last consistent match
   int lost = 0, settled = 0;
@@ -315,13 +314,10 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       ++run.frames;
       if (!f.consistent) {
         // Searched again from the next frame, about the odometry's
-        // prediction from the last good match; after three disagreements
-        // in a row that match itself is doubted and dropped.
+        // prediction from the last good match (which stays the reference:
+        // dropping it for a match that keeps disagreeing homed a 180 deg
+        // turned look-alike 0.36 m away).
         acquired = false;
-        if (++disagreements >= 3) {
-          have_last_error = false;
-          moved = {};
-        }
         if (++lost >= p.max_lost_frames) {
           run.outcome = HomingOutcome::lost;
           finished = true;
@@ -329,12 +325,17 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       } else if (r.status == hh::TrackStatus::ok) {
         acquired = true;
         lost = 0;
-        disagreements = 0;
         last_px = {r.x_px, r.y_px};
         last_gamma = r.gamma_deg;
-      } else if (++lost >= p.max_lost_frames) {
-        run.outcome = acquired ? HomingOutcome::lost : HomingOutcome::not_found;
-        finished = true;
+      } else {
+        // No match: the next frame searches again (about the odometry's
+        // prediction when there was a good match).
+        if (++lost >= p.max_lost_frames) {
+          run.outcome =
+              have_last_error || acquired ? HomingOutcome::lost : HomingOutcome::not_found;
+          finished = true;
+        }
+        acquired = false;
       }
       const bool at_rest = robot.speed_m_s() == 0.0 && robot.yaw_rate_rad_s() == 0.0;
       settled = f.command.phase == nav::HomingPhase::done &&
