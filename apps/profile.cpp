@@ -53,8 +53,8 @@ ProfileScenario scenario_of(const ProfileOptions& o) {
   }
   if (config == nullptr) {
     throw std::runtime_error(
-        "--config must name a device configuration (tape, corridor or full), not '" + o.config +
-        "'");
+        "--config must name a device configuration (tape, corridor, full or homing), not '" +
+        o.config + "'");
   }
   s.device_config = *config;
   s.blanking = parse_blanking(o.blanking);

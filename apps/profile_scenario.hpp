@@ -39,7 +39,7 @@ struct ProfileScenario {
   double backpressure = 0.0;      // P(m_axis_runs_tready low) on each cycle, in [0, 1)
   int tapes = 1;                  // parallel tapes in the rendered scene
   uint64_t seed = 1;              // gaps, back-pressure and the renderer's noise
-  // The device's build-time configuration (regs::kConfigs: tape, corridor, full).
+  // The device's build-time configuration (regs::kConfigs: tape, corridor, full, homing).
   regs::Config device_config = regs::kConfigFull;
 };
 

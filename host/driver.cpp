@@ -25,6 +25,7 @@ void Driver::configure(const stream::PipelineConfig& cfg) {
   const uint32_t features = bus_.read32(r::features::kOffset);
   has_class_moments_ = r::features::kClassMoments.get(features) != 0;
   has_corridor_ = r::features::kCorridor.get(features) != 0;
+  has_orientation_ = r::features::kOrientation.get(features) != 0;
   bus_.write32(r::width::kOffset, r::width::kValue.put(cfg.width));
   bus_.write32(r::height::kOffset, r::height::kValue.put(cfg.height));
   bus_.write32(r::background_level::kOffset, r::background_level::kValue.put(cfg.background_level));
@@ -200,6 +201,33 @@ stream::CorridorReadout Driver::read_corridor() {
     out.cells[i] = r::hough_data::kCount.get(bus_.read32(r::hough_data::kOffset));
   }
   out.consistent = bus_.read32(r::hough_frame_count::kOffset) == out.frame_count;
+  return out;
+}
+
+void Driver::configure_orientation(const OrientationControl& ori) {
+  if (r::features::kOrientation.get(bus_.read32(r::features::kOffset)) == 0) {
+    throw std::runtime_error("ceilnav driver: the device has no orientation block (FEATURES)");
+  }
+  has_orientation_ = true;
+  bus_.write32(r::ori_control::kOffset, r::ori_control::kEnable.put(ori.enable ? 1u : 0u) |
+                                            r::ori_control::kThreshold.put(ori.threshold));
+}
+
+OrientationReadout Driver::read_orientation() {
+  if (!has_orientation_) {
+    throw std::runtime_error("ceilnav driver: the device has no orientation block (FEATURES)");
+  }
+  OrientationReadout out;
+  out.frames = bus_.read32(r::ori_frames::kOffset);
+  const uint32_t status = bus_.read32(r::ori_status::kOffset);
+  out.valid = r::ori_status::kResultsValid.get(status) != 0;
+  out.skipped = bus_.read32(r::ori_skipped::kOffset);
+  out.votes = bus_.read32(r::ori_votes::kOffset);
+  // The bins: ORI_INDEX counts up by itself with every ORI_DATA read.
+  out.bins.resize(r::ori_status::kNumBins.get(status));
+  bus_.write32(r::ori_index::kOffset, 0);
+  for (uint32_t& b : out.bins) b = r::ori_data::kCount.get(bus_.read32(r::ori_data::kOffset));
+  out.consistent = bus_.read32(r::ori_frames::kOffset) == out.frames;
   return out;
 }
 

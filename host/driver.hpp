@@ -39,6 +39,22 @@ struct FrameReadout {
   bool consistent = true;          // RES_FRAME_INDEX unchanged across the readout
 };
 
+// ORI_CONTROL: the orientation block's configuration (stream::OrientationConfig).
+struct OrientationControl {
+  bool enable = true;
+  uint16_t threshold = 16;  // 12 bits: a gradient votes if its weight > threshold
+};
+
+// The orientation block's published histogram and counters.
+struct OrientationReadout {
+  bool valid = false;          // ORI_STATUS.RESULTS_VALID
+  uint32_t frames = 0;         // ORI_FRAMES (publications since reset)
+  uint32_t skipped = 0;        // ORI_SKIPPED
+  uint32_t votes = 0;          // ORI_VOTES of the published frame
+  std::vector<uint32_t> bins;  // ORI_STATUS.NUM_BINS bins; bin k centred on k * 90 / size degrees
+  bool consistent = true;      // ORI_FRAMES unchanged across the readout
+};
+
 class Driver {
  public:
   explicit Driver(Bus& bus, const DriverOptions& options = {});
@@ -71,6 +87,20 @@ class Driver {
   // std::runtime_error on a timeout or without the corridor blocks.
   stream::CorridorReadout read_corridor();
 
+  // FEATURES.ORIENTATION as read by the last configure(): the orientation block.
+  bool has_orientation() const { return has_orientation_; }
+  // Writes ORI_CONTROL (throws std::runtime_error on a device without the
+  // orientation block). Like configure(): between frames; the block takes it
+  // at the next SOF.
+  void configure_orientation(const OrientationControl& ori);
+  // The published orientation histogram through ORI_INDEX / ORI_DATA
+  // (ORI_STATUS.NUM_BINS reads) with its counters. The block publishes a
+  // frame Orientation::kDoneLatencyCycles after its EOF pixel, before the
+  // frame's FRAME_DONE: after read_frame() of a frame it took, the histogram
+  // is that frame's unless ORI_SKIPPED moved. Throws std::runtime_error
+  // without the orientation block.
+  OrientationReadout read_orientation();
+
   // Waits for FRAME_DONE, acknowledges it, reads the result registers and
   // the frame's runs. Throws std::runtime_error on a timeout.
   FrameReadout read_frame();
@@ -85,6 +115,7 @@ class Driver {
   std::deque<stream::RunBeat> stream_backlog_;  // received beats not yet consumed
   bool has_class_moments_ = true;
   bool has_corridor_ = false;
+  bool has_orientation_ = false;
   stream::EdgeConfig edge_cfg_{};
   stream::HoughConfig hough_cfg_{};
 };

@@ -10,14 +10,18 @@
 // class_moments (its registers CLASS_WIN_*, CLASS_MOM_* then answer SLVERR
 // like unmapped addresses), HasCorridor = 0 the edge and hough blocks
 // (EDGE_*, HOUGH_*): `tape` has neither, `corridor` only the corridor blocks,
-// `full` both. Hough*: the hough block's compile-time shape (HOUGH_SHAPE).
+// `full` both; HasOrientation = 0 leaves out the orientation block (ORI_*):
+// only `homing` has it. Hough*: the hough block's compile-time shape
+// (HOUGH_SHAPE); OriBins: the orientation block's bins (ORI_STATUS.NUM_BINS).
 module ceilnav_top #(
   parameter bit          HasClassMoments = 1'b1,
   parameter bit          HasCorridor     = 1'b1,
   parameter int unsigned HoughLanes      = 4,
   parameter int unsigned HoughThetaStep  = 4,
   parameter int unsigned HoughRhoBits    = 6,
-  parameter int unsigned HoughAccBits    = 16
+  parameter int unsigned HoughAccBits    = 16,
+  parameter bit          HasOrientation  = 1'b0,
+  parameter int unsigned OriBins         = 90
 ) (
   input  logic                                 clk_i,
   input  logic                                 rst_ni,
@@ -76,7 +80,8 @@ module ceilnav_top #(
 
   ceilnav_regblock #(
     .HasClassMoments(HasClassMoments),
-    .HasCorridor    (HasCorridor)
+    .HasCorridor    (HasCorridor),
+    .HasOrientation (HasOrientation)
   ) u_regblock (
     .clk_i,
     .rst_ni,
@@ -141,6 +146,8 @@ module ceilnav_top #(
   ceilnav_pkg::word_t       edge_count, edge_dropped, edge_trailers_lost, hough_stalls;
   logic [EdgeCountBits:0]   edge_fifo_level;
   ceilnav_pkg::word_t       hough_frame_count_q;
+  ceilnav_pkg::word_t       ori_rd_data, ori_votes, ori_frames, ori_skipped;
+  logic                     ori_done, ori_res_valid, ori_clearing;
 
   // Synchronous datapath reset: low on the edge that accepts the soft-reset
   // strobe and on the next one (soft_rst_q), so the datapath leaves the same
@@ -159,7 +166,9 @@ module ceilnav_top #(
     .HoughLanes     (HoughLanes),
     .HoughThetaStep (HoughThetaStep),
     .HoughRhoBits   (HoughRhoBits),
-    .HoughAccBits   (HoughAccBits)
+    .HoughAccBits   (HoughAccBits),
+    .HasOrientation (HasOrientation),
+    .OriBins        (OriBins)
   ) u_pipeline (
     .clk_i,
     .rst_ni                      (dp_rst_n),
@@ -187,6 +196,8 @@ module ceilnav_top #(
     .cfg_hough_theta_first_i     (reg2hw.hough_control.theta_first),
     .cfg_hough_theta_count_i     (reg2hw.hough_control.theta_count),
     .cfg_hough_width_i           (reg2hw.hough_geometry.width),
+    .cfg_ori_enable_i            (reg2hw.ori_control.enable),
+    .cfg_ori_threshold_i         (reg2hw.ori_control.threshold),
     .lut_wr_en_i                 (lut_wr_en_q),
     .lut_wr_index_i              (lut_wr_index_q),
     .lut_wr_data_i               (lut_wr_data_q),
@@ -200,6 +211,9 @@ module ceilnav_top #(
     .hough_rd_en_i               (reg2hw.hough_data.re),
     .hough_rd_index_i            (reg2hw.hough_index.value[HoughIndexBits-1:0]),
     .hough_rd_data_o             (hough_rd_data),
+    .ori_rd_en_i                 (reg2hw.ori_data.re),
+    .ori_rd_bin_i                (reg2hw.ori_index.value),
+    .ori_rd_data_o               (ori_rd_data),
     .frame_done_o                (frame_done),
     .res_valid_o                 (res_valid),
     .res_wr_valid_o              (res_wr_valid),
@@ -228,7 +242,13 @@ module ceilnav_top #(
     .edge_fifo_level_o           (edge_fifo_level),
     .edge_trailers_lost_o        (edge_trailers_lost),
     .corridor_pending_o          (corridor_pending),
-    .hough_stalls_o              (hough_stalls)
+    .hough_stalls_o              (hough_stalls),
+    .ori_done_o                  (ori_done),
+    .ori_results_valid_o         (ori_res_valid),
+    .ori_clearing_o              (ori_clearing),
+    .ori_votes_o                 (ori_votes),
+    .ori_frames_o                (ori_frames),
+    .ori_skipped_o               (ori_skipped)
   );
 
   // ---------------------------------------------------------------------------
@@ -330,6 +350,7 @@ module ceilnav_top #(
     hw2reg.run_fifo_depth.value   = ceilnav_pkg::RunFieldBits'(RunFifoDepth);
     hw2reg.features.class_moments = HasClassMoments;
     hw2reg.features.corridor      = HasCorridor;
+    hw2reg.features.orientation   = HasOrientation;
     // The run window: the head entry of the run FIFO (pack_run_beat layout; the
     // run scanner drives tdata and tlast to 0 without tvalid).
     hw2reg.run_word0.valid        = pipe_tvalid;
@@ -370,6 +391,14 @@ module ceilnav_top #(
     hw2reg.hough_shape.acc_bits      = HasCorridor ? 8'(HoughAccBits) : 8'd0;
     hw2reg.hough_frame_count.value   = hough_frame_count_q;
     hw2reg.hough_stalls.value        = hough_stalls;
+    // The orientation block (the pipeline drives 0 without it).
+    hw2reg.ori_status.results_valid  = ori_res_valid;
+    hw2reg.ori_status.clearing       = ori_clearing;
+    hw2reg.ori_status.num_bins       = HasOrientation ? 9'(OriBins) : 9'd0;
+    hw2reg.ori_data.count            = ori_rd_data;
+    hw2reg.ori_frames.value          = ori_frames;
+    hw2reg.ori_skipped.value         = ori_skipped;
+    hw2reg.ori_votes.value           = ori_votes;
     // MOM_*: the result store (below); CLASS_MOM_*[i] (i = 6 (c - 1) + k): the
     // 64-bit moments in two words.
     hw2reg.moments.data  = store_rd_q & {WordBits{store_rd_valid_q}};
@@ -459,7 +488,9 @@ module ceilnav_top #(
   // The run words use the SumWBits / SumXwBits low bits of sum_w / sum_xw
   // (pack_run_beat); HOUGH_INDEX's bits above the read index are not used.
   logic unused;
-  assign unused = ^{pipe_tdata.sum_xw[WordBits-1:ceilnav_pkg::SumXwBits],
+  // (ORI_FRAMES counts the orientation block's publications: its done pulse
+  // is not used.)
+  assign unused = ^{ori_done, pipe_tdata.sum_xw[WordBits-1:ceilnav_pkg::SumXwBits],
                     pipe_tdata.sum_w[WordBits-1:ceilnav_pkg::SumWBits],
                     reg2hw.hough_index.value[19:HoughIndexBits]};
 

@@ -1,5 +1,5 @@
 // pipeline: frame_check -> thresh_lut -> {histogram, moment_gen, class_moments,
-// run_scanner, edge_detect -> hough},
+// run_scanner, edge_detect -> hough, orientation},
 // the configuration that travels with the SOF, and the double-buffered frame
 // result registers. Cycle-exact twin of stream/pipeline.cpp (Pipeline::clock
 // with the histogram read port); see docs/blocks/pipeline.md, section "RTL".
@@ -23,6 +23,10 @@
 // the SOF; its m_axis_edges feeds hough's s_axis_edges. The hough publishes
 // a frame when it votes the frame's trailer, on its own schedule (hough_done_o),
 // and is read through its port like the histogram.
+// The orientation block (HasOrientation) samples thresh_lut's output like
+// edge_detect, with ORI_CONTROL travelling with the SOF the same way; it
+// publishes a frame's histogram on its own schedule (Orientation::
+// kDoneLatencyCycles after the EOF pixel) and is read through its port.
 module pipeline #(
   parameter int unsigned RunFifoDepth = 1024,  // run FIFO entries, power of two, >= 8
   // 0: no class_moments and no published copy of its results; res_class_mom_o = 0
@@ -37,6 +41,10 @@ module pipeline #(
   parameter int unsigned HoughThetaStep = 4,
   parameter int unsigned HoughRhoBits   = 6,
   parameter int unsigned HoughAccBits   = 16,
+  // 0: no orientation block; its outputs are 0
+  // (C++: Pipeline(..., /*has_orientation=*/false)).
+  parameter bit          HasOrientation = 1'b0,
+  parameter int unsigned OriBins        = 90,  // orientation bins, 2 .. 256
   localparam int unsigned FifoCountBits = $clog2(RunFifoDepth) + 1,
   localparam int unsigned EdgeCountBits = $clog2(EdgeFifoDepth) + 1,
   localparam int unsigned HoughIndexBits = $clog2(180 / HoughThetaStep) + HoughRhoBits,
@@ -75,6 +83,8 @@ module pipeline #(
   input  logic [7:0]               cfg_hough_theta_first_i,
   input  logic [7:0]               cfg_hough_theta_count_i,
   input  logic [11:0]              cfg_hough_width_i,
+  input  logic                     cfg_ori_enable_i,     // ORI_CONTROL (shadow)
+  input  logic [11:0]              cfg_ori_threshold_i,
   // LUT write port (shadow bank)
   input  logic                     lut_wr_en_i,
   input  ceilnav_pkg::pixel_t      lut_wr_index_i,
@@ -95,6 +105,10 @@ module pipeline #(
   input  logic                     hough_rd_en_i,
   input  logic [HoughIndexBits-1:0] hough_rd_index_i,
   output logic [HoughAccBits-1:0]  hough_rd_data_o,
+  // orientation read port (published bank, one cycle; 0 after an edge without a read)
+  input  logic                     ori_rd_en_i,
+  input  ceilnav_pkg::pixel_t      ori_rd_bin_i,
+  output ceilnav_pkg::word_t       ori_rd_data_o,
   // Published results (FrameResults); frame_done_o: one-cycle pulse, high in
   // the first cycle that shows a new set.
   output logic                     frame_done_o,
@@ -136,7 +150,15 @@ module pipeline #(
   output logic [EdgeCountBits:0]   edge_fifo_level_o,  // FIFO memory + output register
   output ceilnav_pkg::word_t       edge_trailers_lost_o,
   output logic                     corridor_pending_o,  // STATUS.HOUGH_PENDING
-  output ceilnav_pkg::word_t       hough_stalls_o  // edge beat offered, not taken (saturating)
+  output ceilnav_pkg::word_t       hough_stalls_o,  // edge beat offered, not taken (saturating)
+
+  // Orientation (0 without HasOrientation)
+  output logic                     ori_done_o,           // one-cycle pulse: a frame was published
+  output logic                     ori_results_valid_o,
+  output logic                     ori_clearing_o,
+  output ceilnav_pkg::word_t       ori_votes_o,          // votes of the published frame
+  output ceilnav_pkg::word_t       ori_frames_o,         // published since reset (saturating)
+  output ceilnav_pkg::word_t       ori_skipped_o         // ended unpublished (saturating)
 );
 
   localparam int unsigned WordBits = ceilnav_pkg::WordBits;
@@ -628,6 +650,69 @@ module pipeline #(
                                cfg_hough_weight_shift_i, cfg_hough_rho_shift_i,
                                cfg_hough_theta_first_i, cfg_hough_theta_count_i,
                                cfg_hough_width_i, hough_rd_en_i, hough_rd_index_i};
+  end
+
+  // Orientation (HasOrientation): ORI_CONTROL travels with the SOF like
+  // EDGE_CONTROL (ori_cfg_fc_q, ori_cfg_lut_q); the block latches it at the
+  // SOF pixel.
+  if (HasOrientation) begin : g_orientation
+    localparam int unsigned OriCfgBits = 1 + 12;
+    logic [OriCfgBits-1:0] ori_cfg_shadow, ori_cfg_fc_q, ori_cfg_lut_q;
+
+    assign ori_cfg_shadow = {cfg_ori_threshold_i, cfg_ori_enable_i};
+
+    always_ff @(posedge clk_i) begin
+      if (!rst_ni) begin
+        ori_cfg_fc_q  <= '0;
+        ori_cfg_lut_q <= '0;
+      end else begin
+        if (video_sof) begin
+          ori_cfg_fc_q <= ori_cfg_shadow;
+        end
+        if (fc.valid && fc.sof) begin
+          ori_cfg_lut_q <= ori_cfg_fc_q;
+        end
+      end
+    end
+
+    orientation #(
+      .Bins(OriBins)
+    ) u_orientation (
+      .clk_i,
+      .rst_ni,
+      .s_lut_valid_i   (lut.pix.valid),
+      .s_lut_grey_i    (lut.pix.grey),
+      .s_lut_x_i       (lut.pix.x),
+      .s_lut_y_i       (lut.pix.y),
+      .s_lut_sof_i     (lut.pix.sof),
+      .s_lut_eol_i     (lut.pix.eol),
+      .s_lut_eof_i     (lut.pix.eof),
+      .s_lut_abort_i   (lut.pix.abort_frame),
+      .s_lut_remap_i   (lut.lut.remap),
+      .s_lut_mask_i    (lut.lut.mask),
+      .cfg_enable_i    (ori_cfg_lut_q[0]),
+      .cfg_threshold_i (ori_cfg_lut_q[12:1]),
+      .hist_rd_en_i    (ori_rd_en_i),
+      .hist_rd_bin_i   (ori_rd_bin_i),
+      .hist_rd_data_o  (ori_rd_data_o),
+      .done_o          (ori_done_o),
+      .results_valid_o (ori_results_valid_o),
+      .clearing_o      (ori_clearing_o),
+      .frame_votes_o   (ori_votes_o),
+      .frames_o        (ori_frames_o),
+      .frames_skipped_o(ori_skipped_o)
+    );
+  end else begin : g_no_orientation
+    assign ori_rd_data_o       = '0;
+    assign ori_done_o          = 1'b0;
+    assign ori_results_valid_o = 1'b0;
+    assign ori_clearing_o      = 1'b0;
+    assign ori_votes_o         = '0;
+    assign ori_frames_o        = '0;
+    assign ori_skipped_o       = '0;
+    logic unused_orientation;
+    assign unused_orientation = ^{cfg_ori_enable_i, cfg_ori_threshold_i, ori_rd_en_i,
+                                  ori_rd_bin_i};
   end
 
   assign errors_o                     = fc_errors;

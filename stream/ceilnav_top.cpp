@@ -53,10 +53,10 @@ bool error_counters_differ(const FrameErrorCounters& a, const FrameErrorCounters
 }  // namespace
 
 CeilnavTop::CeilnavTop(uint32_t run_fifo_depth, const regs::Config& config,
-                       const HoughShape& hough_shape)
+                       const HoughShape& hough_shape, uint32_t ori_bins)
     : run_fifo_depth_(run_fifo_depth),
       pipeline_(run_fifo_depth, config.has_class_moments, config.has_corridor, hough_shape,
-                regs::kEdgeFifoDepth),
+                regs::kEdgeFifoDepth, config.has_orientation, ori_bins),
       regs_(config) {
   reset();
 }
@@ -119,6 +119,10 @@ void CeilnavTop::push_config() {
   h.theta_count = static_cast<uint8_t>(r.hough_control.theta_count);
   h.width = static_cast<uint16_t>(r.hough_geometry.width);
   pipeline_.set_corridor_config(e, h);
+  OrientationConfig o;
+  o.enable = r.ori_control.enable != 0;
+  o.threshold = static_cast<uint16_t>(r.ori_control.threshold);
+  pipeline_.set_orientation_config(o);
 }
 
 void CeilnavTop::fill_read_inputs() {
@@ -133,6 +137,7 @@ void CeilnavTop::fill_read_inputs() {
   h.run_fifo_depth.value = run_fifo_depth_;
   h.features.class_moments = regs_.config().has_class_moments;
   h.features.corridor = regs_.config().has_corridor;
+  h.features.orientation = regs_.config().has_orientation;
   // The run window: the head entry of the run FIFO, 0 if none.
   const RunRecord run = head.tvalid ? head.tdata : RunRecord{};
   h.run_word0 = {head.tvalid ? 1u : 0u, head.tvalid && head.tlast ? 1u : 0u, run.row};
@@ -172,6 +177,14 @@ void CeilnavTop::fill_read_inputs() {
     h.hough_frame_count.value = hough_frame_count_q_;
     h.hough_stalls.value = pipeline_.hough_stalls();
   }
+  // The orientation block (all 0 without it: the registers answer SLVERR).
+  if (pipeline_.has_orientation()) {
+    const Orientation& ori = pipeline_.orientation();
+    h.ori_status = {ori.results_valid() ? 1u : 0u, ori.clearing() ? 1u : 0u, ori.bins()};
+    h.ori_frames.value = ori.frames();
+    h.ori_skipped.value = ori.frames_skipped();
+    h.ori_votes.value = ori.frame_votes();
+  }
   // CLASS_MOM_*[i] (class c = i / 6 + 1, moment k = i % 6): 64-bit moments in two words.
   for (size_t i = 0; i < kMomentClasses * kMomentCount; ++i) {
     const uint64_t v = res.class_moments.cls[i / kMomentCount][i % kMomentCount];
@@ -202,6 +215,7 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
   // The histogram and hough blocks' read ports answer one edge after the read.
   hw_.hist_data.count = pipeline_.hist_rd_data();
   hw_.hough_data.count = pipeline_.hough_rd_data();
+  hw_.ori_data.count = pipeline_.ori_rd_data();
   const bool run_pop = r.run_word3.re && run_sink();
   const bool runs_tready = run_sink() ? run_pop : m_axis_runs_tready;
   const bool soft_reset = r.control.we && r.control.soft_reset != 0;
@@ -256,7 +270,8 @@ void CeilnavTop::clock(const VideoBeat& s_axis_video, const AxiLiteIn& s_axil,
     push_config();
   } else {
     pipeline_.clock(video_in, runs_tready, r.hist_data.re, static_cast<uint8_t>(r.hist_index.value),
-                    r.hough_data.re, r.hough_index.value);
+                    r.hough_data.re, r.hough_index.value, r.ori_data.re,
+                    static_cast<uint8_t>(r.ori_index.value));
     if (pass && s_axis_video.tuser && lut_pending_q_) {  // thresh_lut's bank swap
       lut_active_q_ ^= 1u;
       lut_pending_q_ = false;

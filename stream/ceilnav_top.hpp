@@ -38,9 +38,12 @@ class CeilnavTop {
   // absent block answers SLVERR, as in the RTL built with the same parameters.
   // hough_shape: the hough block's compile-time shape (the RTL top's
   // HoughLanes, HoughThetaStep, HoughRhoBits, HoughAccBits; HOUGH_SHAPE).
+  // ori_bins: the orientation block's bins (the RTL top's OriBins;
+  // ORI_STATUS.NUM_BINS), used in configurations with the block.
   explicit CeilnavTop(uint32_t run_fifo_depth = regs::kRunFifoDepth,
                       const regs::Config& config = regs::kConfigFull,
-                      const HoughShape& hough_shape = HoughShape{});
+                      const HoughShape& hough_shape = HoughShape{},
+                      uint32_t ori_bins = Orientation::kDefaultBins);
 
   // Synchronous active-low reset (rst_ni) of every register, the register
   // file included. LUT contents (BRAM) are kept; the active bank becomes 0.

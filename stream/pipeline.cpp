@@ -8,12 +8,15 @@
 namespace ceilnav::stream {
 
 Pipeline::Pipeline(uint32_t run_fifo_depth, bool has_class_moments, bool has_corridor,
-                   const HoughShape& hough_shape, uint32_t edge_fifo_depth)
+                   const HoughShape& hough_shape, uint32_t edge_fifo_depth, bool has_orientation,
+                   uint32_t ori_bins)
     : runs_(run_fifo_depth),
       edge_(edge_fifo_depth),
       hough_(hough_shape),
+      ori_(ori_bins),
       has_class_moments_(has_class_moments),
-      has_corridor_(has_corridor) {
+      has_corridor_(has_corridor),
+      has_orientation_(has_orientation) {
   set_config(shadow_);
   lut_.commit_at_frame_start();
   build_tables();
@@ -29,6 +32,7 @@ void Pipeline::reset() {
   runs_.reset();
   edge_.reset();
   hough_.reset();
+  ori_.reset();
   hough_stalls_q_ = 0;
   cfg_fc_ = stage_config(shadow_);
   cfg_lut_ = cfg_fc_;
@@ -63,7 +67,8 @@ bool Pipeline::corridor_pending() const {
 }
 
 void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, bool hist_rd_en,
-                     uint8_t hist_rd_bin, bool hough_rd_en, uint32_t hough_rd_index) {
+                     uint8_t hist_rd_bin, bool hough_rd_en, uint32_t hough_rd_index, bool ori_rd_en,
+                     uint8_t ori_rd_bin) {
   // Every block samples the pre-edge outputs of the block before it.
   const PixelBeat fc_out = fc_.m_pix();
   const LutBeat lut_out = lut_.m_lut();
@@ -95,6 +100,11 @@ void Pipeline::clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, boo
     hough_.clock(edge_beat, hough_cfg_, hough_rd_en, hough_rd_index);
     edge_.set_config(cfg_lut_.edge);
     edge_.clock(lut_out, hough_tready);
+  }
+  // The orientation block: the configuration that travelled with the SOF.
+  if (has_orientation_) {
+    ori_.set_config(cfg_lut_.ori);
+    ori_.clock(lut_out, ori_rd_en, ori_rd_bin);
   }
   // Result registers. moment_gen is the last to finish a frame (kCombineCycles
   // after its EOF pixel); the histogram and run stats of the same frame were
@@ -164,6 +174,9 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
   if (fc_.state() == FrameCheck::State::kInFrame || fc_.m_pix().valid || lut_.m_lut().pix.valid ||
       mom_.combine_busy() || hist_accept_q_ || runs_.fifo_occupancy() != 0 || corridor_pending()) {
     throw std::logic_error("Pipeline::process_frame: the clocked pipeline is not idle");
+  }
+  if (has_orientation_ && ori_shadow_.enable) {
+    throw std::logic_error("Pipeline::process_frame: the orientation block is enabled");
   }
   // The SOF: shadow -> active.
   const bool swapped = lut_.commit_pending();

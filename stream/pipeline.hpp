@@ -1,5 +1,5 @@
 // The pipeline top: frame_check -> thresh_lut -> {histogram, moment_gen,
-// class_moments, run_scanner, edge -> hough}, the shadow/active configuration, the
+// class_moments, run_scanner, edge -> hough, orientation}, the shadow/active configuration, the
 // double-buffered frame result registers and the frame_done interrupt source.
 // See docs/blocks/pipeline.md.
 #pragma once
@@ -19,6 +19,7 @@
 #include "stream/histogram.hpp"
 #include "stream/hough.hpp"
 #include "stream/moment_gen.hpp"
+#include "stream/orientation.hpp"
 #include "stream/run_scanner.hpp"
 #include "stream/thresh_lut.hpp"
 
@@ -37,13 +38,18 @@ class Pipeline {
   // block (their outputs read idle / 0). hough_shape: the hough block's
   // compile-time shape (the RTL's HoughLanes, HoughThetaStep, HoughRhoBits,
   // HoughAccBits); edge_fifo_depth: the edge FIFO (EdgeFifoDepth).
+  // has_orientation = true is the RTL's HasOrientation = 1: the orientation
+  // block on the LUT remap stream beside the edge block, with ori_bins bins
+  // (OriBins); without it its outputs read idle / 0.
   explicit Pipeline(uint32_t run_fifo_depth = RunScanner::kDefaultFifoDepth,
                     bool has_class_moments = true, bool has_corridor = true,
                     const HoughShape& hough_shape = HoughShape{},
-                    uint32_t edge_fifo_depth = EdgeDetector::kDefaultFifoDepth);
+                    uint32_t edge_fifo_depth = EdgeDetector::kDefaultFifoDepth,
+                    bool has_orientation = false, uint32_t ori_bins = Orientation::kDefaultBins);
 
   bool has_class_moments() const { return has_class_moments_; }
   bool has_corridor() const { return has_corridor_; }
+  bool has_orientation() const { return has_orientation_; }
 
   // Synchronous active-low reset of every register (not of the LUT BRAM nor
   // of the shadow configuration, which the host owns).
@@ -63,6 +69,10 @@ class Pipeline {
     hough_cfg_ = hough;
   }
   const EdgeConfig& edge_shadow_config() const { return edge_shadow_; }
+  // Host: the orientation block's configuration, a shadow like EDGE_CONTROL
+  // (it travels with the SOF; the block latches it at the SOF pixel).
+  void set_orientation_config(const OrientationConfig& ori) { ori_shadow_ = ori; }
+  const OrientationConfig& orientation_shadow_config() const { return ori_shadow_; }
   const HoughConfig& hough_config() const { return hough_cfg_; }
 
   // One rising clock edge. s_axis_video_tready is always 1.
@@ -70,9 +80,11 @@ class Pipeline {
   // One rising clock edge with the histogram block's result read port
   // (histogram.sv hist_rd_en_i / hist_rd_bin_i) sampled on it too.
   // With the hough block's result read port (hough.sv rd_en_i / rd_index_i)
-  // as well (ignored without the corridor blocks).
+  // as well (ignored without the corridor blocks), and the orientation
+  // block's (orientation.sv hist_rd_en_i / hist_rd_bin_i; ignored without it).
   void clock(const VideoBeat& s_axis_video, bool m_axis_runs_tready, bool hist_rd_en,
-             uint8_t hist_rd_bin, bool hough_rd_en = false, uint32_t hough_rd_index = 0);
+             uint8_t hist_rd_bin, bool hough_rd_en = false, uint32_t hough_rd_index = 0,
+             bool ori_rd_en = false, uint8_t ori_rd_bin = 0);
 
   // Registered outputs.
   RunBeat m_axis_runs() const { return runs_.m_axis_runs(); }
@@ -116,6 +128,12 @@ class Pipeline {
   // block did not take (HOUGH_STALLS).
   uint32_t hough_stalls() const { return hough_stalls_q_; }
 
+  // The orientation block (meaningful with has_orientation()): it taps
+  // thresh_lut's output like the edge block.
+  const Orientation& orientation() const { return ori_; }
+  // Its read port output (0 without a read on the last edge, or without it).
+  uint32_t ori_rd_data() const { return has_orientation_ ? ori_.hist_rd_data() : 0u; }
+
   // Fast path: one well-formed frame of width x height (must equal the
   // configuration that becomes active), processed as clock() would after the
   // shadow -> active copy of its SOF. Returns the published results (and
@@ -131,6 +149,8 @@ class Pipeline {
   // counters as the clocked path leaves them once the hough block is idle,
   // if the edge FIFO never fills (edge() keeps its state: EDGE_COUNT /
   // EDGE_DROPPED of the frame are the trailer's, in hough().counters()).
+  // With the orientation block enabled for the frame (ORI_CONTROL.ENABLE),
+  // throws std::logic_error: the fast path has no model of its banks.
   FrameResults process_frame(const uint8_t* grey, int width, int height, size_t stride_bytes,
                              std::vector<RunRecord>* runs_out);
 
@@ -141,6 +161,7 @@ class Pipeline {
     bool hist_source_remap = false;
     ClassWindow class_window{};
     EdgeConfig edge{};
+    OrientationConfig ori{};
   };
   // What the result registers take from the frame_check side, carried two
   // stages to the point where the frame reaches histogram/moment/run.
@@ -151,7 +172,8 @@ class Pipeline {
   };
 
   StageConfig stage_config(const PipelineConfig& cfg) const {
-    return {RunScanConfig::from(cfg), cfg.hist_source_remap, cfg.class_window, edge_shadow_};
+    return {RunScanConfig::from(cfg), cfg.hist_source_remap, cfg.class_window, edge_shadow_,
+            ori_shadow_};
   }
   void build_tables();
 
@@ -165,8 +187,11 @@ class Pipeline {
   RunScanner runs_;
   EdgeDetector edge_;
   Hough hough_;
+  Orientation ori_;
   bool has_class_moments_;
   bool has_corridor_;
+  bool has_orientation_;
+  OrientationConfig ori_shadow_{};          // host-written, ORI_CONTROL's reset values
   EdgeConfig edge_shadow_{};                // host-written, EDGE_CONTROL's reset values
   HoughConfig hough_cfg_{.enable = false};  // HOUGH_CONTROL / HOUGH_GEOMETRY's reset values
   uint32_t hough_stalls_q_ = 0;

@@ -4,6 +4,7 @@
 // compared after every edge. See docs/cosim.md.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <deque>
@@ -23,11 +24,13 @@
 #include "golden/corridor/render.hpp"
 #include "golden/edge_ref.hpp"
 #include "golden/hough_ref.hpp"
+#include "golden/orientation_ref.hpp"
 #include "golden/thresh_lut_ref.hpp"
 #include "stream/axi_lite.hpp"
 #include "stream/beat.hpp"
 #include "stream/ceilnav_top.hpp"
 #include "stream/hough.hpp"
+#include "stream/orientation.hpp"
 #include "stream/run_scanner.hpp"
 #include "testbench/cosim_common.hpp"
 #include "testbench/top_cosim.hpp"
@@ -130,6 +133,9 @@ struct Coverage {
   uint64_t hough_published = 0;    // hough done pulses
   uint64_t edge_dropped = 0;       // EDGE_DROPPED reads with a non-zero count
   uint64_t hough_stalls = 0;       // HOUGH_STALLS reads with a non-zero count
+  uint64_t ori_nonzero = 0;        // ORI_DATA reads with a non-zero bin
+  uint64_t ori_published = 0;      // orientation done pulses
+  uint64_t ori_read_clearing = 0;  // ORI_DATA reads sampled while the block swept its bank
 
   static bool is_mom(uint32_t a) {
     return r::mom_grey_lo::kArray.index(a) >= 0 || r::mom_grey_hi::kArray.index(a) >= 0 ||
@@ -145,6 +151,7 @@ struct Coverage {
     if (a == r::hough_data::kOffset && rdata != 0) ++hough_nonzero;
     if (a == r::edge_dropped::kOffset && rdata != 0) ++edge_dropped;
     if (a == r::hough_stalls::kOffset && rdata != 0) ++hough_stalls;
+    if (a == r::ori_data::kOffset && rdata != 0) ++ori_nonzero;
     if ((r::class_mom_lo::kArray.index(a) >= 0 || r::class_mom_hi::kArray.index(a) >= 0) &&
         rdata != 0) {
       ++class_nonzero;
@@ -173,6 +180,14 @@ struct Coverage {
         static_cast<unsigned long long>(hough_read_voting),
         static_cast<unsigned long long>(edge_dropped),
         static_cast<unsigned long long>(hough_stalls));
+    if (kTopConfig.has_orientation) {
+      std::printf(
+          "[cosim] ceilnav_top orientation coverage: %llu publications, %llu non-zero bins "
+          "read, %llu bin reads while the accumulating bank was swept\n",
+          static_cast<unsigned long long>(ori_published),
+          static_cast<unsigned long long>(ori_nonzero),
+          static_cast<unsigned long long>(ori_read_clearing));
+    }
   }
 };
 
@@ -186,7 +201,21 @@ struct Scenario {
   bool big_frame = true;         // one 1280x960 frame (the largest geometry the issue names)
 };
 
+// The registers the random traffic draws from (present or not): the whole
+// map with the orientation block; without it the map without the ORI_*
+// registers (appended last), so that the configurations older than the block
+// keep the stimulus of their earlier runs (tape's ORI_* SLVERR is checked by
+// AbsentClassMomentRegistersAnswerSlvErr; random unmapped offsets hit them too).
+std::vector<r::Register> random_traffic_registers() {
+  std::vector<r::Register> out;
+  for (const r::Register& reg : r::kRegisters) {
+    if (kTopConfig.has_orientation || reg.block != r::Block::kOrientation) out.push_back(reg);
+  }
+  return out;
+}
+
 void run_scenario(const Scenario& sc, uint64_t seed) {
+  const std::vector<r::Register> traffic_registers = random_traffic_registers();
   TopCosim top(seed);
   Rng rng(seed);
   std::deque<BusOp> ops;
@@ -239,7 +268,7 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
         // A read anywhere: mapped, unmapped or misaligned.
         uint32_t addr = 0;
         if (rng.chance(0.7)) {
-          addr = r::kRegisters[rng.index(r::kRegisters.size())].offset;
+          addr = traffic_registers[rng.index(traffic_registers.size())].offset;
         } else {
           addr = static_cast<uint32_t>(rng.uniform(0, 0x3FF));
         }
@@ -264,6 +293,21 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
           const auto n = rng.uniform(1, 48);
           for (int64_t k = 0; k < n; ++k) push({false, r::hough_data::kOffset, 0, 0xF, false});
         }
+      } else if (pick < 42 && kTopConfig.has_orientation && rng.chance(0.4)) {
+        // Orientation histogram: index (mostly a valid bin), then a burst of
+        // ORI_DATA reads; or its counters and status.
+        if (rng.chance(0.25)) {
+          for (uint32_t a : {r::ori_status::kOffset, r::ori_frames::kOffset,
+                             r::ori_skipped::kOffset, r::ori_votes::kOffset}) {
+            push({false, a, 0, 0xF, false});
+          }
+        } else {
+          const auto index =
+              static_cast<uint32_t>(rng.chance(0.9) ? rng.uniform(0, 89) : rng.uniform(0, 255));
+          push({true, r::ori_index::kOffset, index, 0xF, false});
+          const auto n = rng.uniform(1, 24);
+          for (int64_t k = 0; k < n; ++k) push({false, r::ori_data::kOffset, 0, 0xF, false});
+        }
       } else if (pick < 42) {
         // Histogram: index, then a burst of HIST_DATA reads.
         push({true, r::hist_index::kOffset, static_cast<uint32_t>(rng.byte()), 0xF, false});
@@ -278,6 +322,14 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
             push({false, wd, 0, 0xF, false});
           }
         }
+      } else if (pick < 65 && kTopConfig.has_orientation && rng.chance(0.3)) {
+        // ORI_CONTROL, any time (mid-frame too): mostly enabled, a threshold
+        // giving some to many votes.
+        push({true, r::ori_control::kOffset,
+              r::ori_control::kEnable.put(rng.chance(0.85) ? 1u : 0u) |
+                  r::ori_control::kThreshold.put(static_cast<uint32_t>(
+                      rng.chance(0.1) ? rng.uniform(0, 0xFFF) : rng.uniform(0, 150))),
+              0xF, false});
       } else if (pick < 65) {
         // Run-scanner / histogram / class window / corridor configuration,
         // any time (mid-frame too).
@@ -360,7 +412,7 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
       } else if (pick < 76) {
         // Bus errors: partial strobes, read-only and unmapped writes.
         const uint32_t addr = rng.chance(0.5)
-                                  ? r::kRegisters[rng.index(r::kRegisters.size())].offset
+                                  ? traffic_registers[rng.index(traffic_registers.size())].offset
                                   : static_cast<uint32_t>(rng.uniform(0, 0x3FF));
         const auto strb = static_cast<uint8_t>(rng.chance(0.5) ? rng.uniform(0, 14) : 0xF);
         const bool harmful = addr == r::control::kOffset || addr == r::width::kOffset ||
@@ -501,6 +553,15 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
     }
     if (!irq_before && top.model().irq()) ++cov.irq_rises;
     if (top.model().pipeline().hough_done()) ++cov.hough_published;
+    if (kTopConfig.has_orientation) {
+      const stream::Orientation& ori = top.model().pipeline().orientation();
+      if (ori.done()) ++cov.ori_published;
+      // An ORI_DATA read sampled on this edge while the other bank is swept.
+      if (op_in_flight && !op_now.write && (op_now.addr & r::kAddrMask) == r::ori_data::kOffset &&
+          ori.results_valid() && ori.clearing()) {
+        ++cov.ori_read_clearing;
+      }
+    }
     // A HOUGH_DATA read sampled on this edge while the hough votes the next frame.
     if (op_in_flight && !op_now.write && (op_now.addr & r::kAddrMask) == r::hough_data::kOffset &&
         top.model().pipeline().hough().results_valid() &&
@@ -540,6 +601,13 @@ void run_scenario(const Scenario& sc, uint64_t seed) {
     } else {
       EXPECT_EQ(cov.hough_published, 0u);
       EXPECT_EQ(cov.hough_nonzero, 0u);  // every HOUGH_* read is SLVERR
+    }
+    if (kTopConfig.has_orientation) {
+      EXPECT_GT(cov.ori_published, 10u);
+      EXPECT_GT(cov.ori_nonzero, 0u);
+      EXPECT_GT(cov.ori_read_clearing, 0u);
+    } else {
+      EXPECT_EQ(cov.ori_nonzero, 0u);  // every ORI_* read is SLVERR
     }
     EXPECT_GT(cov.stream_beats + cov.run_word_valid, 100u);
   }
@@ -597,6 +665,14 @@ class RegBench : public DeviceBench {
     }
     return cells;
   }
+  // The whole LUT from entry 0 (remap and mask; class 0).
+  void write_lut(const std::array<stream::LutEntry, 256>& lut) {
+    write(r::lut_index::kOffset, 0);
+    for (const stream::LutEntry e : lut) {
+      write(r::lut_data::kOffset, r::lut_data::kRemap.put(e & stream::kLutRemapMask) |
+                                      r::lut_data::kMask.put((e & stream::kLutMaskBit) != 0));
+    }
+  }
   stream::ClassMomentResults read_class_moments() {
     stream::ClassMomentResults m;
     for (uint32_t i = 0; i < r::class_mom_lo::kCount; ++i) {
@@ -608,9 +684,10 @@ class RegBench : public DeviceBench {
   }
 };
 
-#if CEILNAV_TOP_CONFIG_TAPE
-// The tape configuration has no class_moments and no corridor blocks: every
-// CLASS_*, EDGE_* and HOUGH_* register answers SLVERR (read 0, writes change
+#if CEILNAV_TOP_CONFIG_TAPE || CEILNAV_TOP_CONFIG_HOMING
+// The tape and homing configurations have no class_moments and no corridor
+// blocks (tape no orientation block either): every CLASS_*, EDGE_* and
+// HOUGH_* (and ORI_*) register answers SLVERR (read 0, writes change
 // nothing), while the rest of the device publishes its frames (the
 // random-traffic test compares all of it).
 TEST(CeilnavTopCosim, AbsentClassMomentRegistersAnswerSlvErr) {
@@ -630,8 +707,14 @@ TEST(CeilnavTopCosim, AbsentClassMomentRegistersAnswerSlvErr) {
   int corridor = 0;
   for (const r::Register& reg : r::kRegisters) corridor += reg.block == r::Block::kCorridor ? 1 : 0;
   EXPECT_EQ(corridor, 6 + 15);  // EDGE_*, HOUGH_*
-  // window + moments, the corridor registers
-  EXPECT_EQ(absent, 2 + 2 * static_cast<int>(r::class_mom_lo::kCount) + corridor);
+  int orientation = 0;
+  for (const r::Register& reg : r::kRegisters) {
+    orientation += reg.block == r::Block::kOrientation ? 1 : 0;
+  }
+  EXPECT_EQ(orientation, 7);  // ORI_*
+  // window + moments, the corridor registers, the orientation registers (tape)
+  EXPECT_EQ(absent, 2 + 2 * static_cast<int>(r::class_mom_lo::kCount) + corridor +
+                        (kTopConfig.has_orientation ? 0 : orientation));
   // A frame still streams, is published and raises the interrupt (the LUT
   // BRAM is not reset: program it first).
   b.write(r::lut_index::kOffset, 0);
@@ -750,7 +833,7 @@ TEST(CeilnavTopCosim, ClassMomentsThroughRegistersEqualCvMoments) {
 }
 #endif
 
-#if !CEILNAV_TOP_CONFIG_TAPE
+#if !CEILNAV_TOP_CONFIG_TAPE && !CEILNAV_TOP_CONFIG_HOMING
 // The corridor blocks at device level: corridor renders (seed 002's default
 // corridor, two poses) stream back to back through the LUT's remap, the edge
 // block and the hough voter; frame 0's accumulator, read over AXI4-Lite while
@@ -802,11 +885,7 @@ TEST(CeilnavTopCosim, CorridorAccumulatorThroughRegistersEqualsGolden) {
   b.write(r::intr_enable::kOffset, r::intr_enable::kHoughDone.mask());
   b.write(r::width::kOffset, kW);
   b.write(r::height::kOffset, kH);
-  b.write(r::lut_index::kOffset, 0);
-  for (const stream::LutEntry e : lut) {
-    b.write(r::lut_data::kOffset, r::lut_data::kRemap.put(e & stream::kLutRemapMask) |
-                                      r::lut_data::kMask.put((e & stream::kLutMaskBit) != 0));
-  }
+  b.write_lut(lut);
   b.write(r::edge_control::kOffset, r::edge_control::kEnable.put(1) |
                                         r::edge_control::kMode.put(2) |
                                         r::edge_control::kThreshold.put(eparams.threshold));
@@ -884,6 +963,98 @@ TEST(CeilnavTopCosim, CorridorAccumulatorThroughRegistersEqualsGolden) {
   }
   std::printf("[cosim] corridor: %u stall cycles, %u HOUGH_DATA reads per frame\n", stalls,
               static_cast<uint32_t>(shape.n_theta()) * shape.rho_bins());
+  EXPECT_FALSE(b.sim().failed());
+  b.sim().report();
+}
+#endif
+
+#if CEILNAV_TOP_CONFIG_HOMING
+// The orientation block at device level (the homing configuration): two
+// gratings with noise stream back to back through a non-identity LUT remap
+// (tvalid gaps, run back-pressure); frame 0's histogram, read over AXI4-Lite
+// through ORI_INDEX / ORI_DATA while frame 1 streams and votes, and frame 1's
+// equal golden::orientation_histogram_fixed of the remapped frames (exactly),
+// with every port compared on every cycle.
+TEST(CeilnavTopCosim, OrientationHistogramThroughRegistersEqualsGolden) {
+  static_assert(kTopConfig.has_orientation);
+  const uint64_t seed = cosim_seed(0x6f726965);
+  Rng rng(seed);
+  RegBench b(seed);
+  b.set_tready_p(0.6);
+  constexpr int kW = 120;
+  constexpr int kH = 90;
+  constexpr uint32_t kThreshold = 24;
+  const std::array<double, 2> angles = {28.0, 71.0};
+  std::array<cv::Mat, 2> frames;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    frames[f] = cv::Mat(kH, kW, CV_8UC1);
+    const double a = angles[f] * CV_PI / 180.0;
+    for (int y = 0; y < kH; ++y) {
+      for (int x = 0; x < kW; ++x) {
+        const double t = (x * std::cos(a) + y * std::sin(a)) * 2.0 * CV_PI / 11.0;
+        frames[f].at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(
+            128.0 + 80.0 * std::sin(t) + static_cast<double>(rng.uniform(-12, 12)));
+      }
+    }
+  }
+  std::array<stream::LutEntry, 256> lut{};
+  for (unsigned g = 0; g < 256; ++g) {
+    lut[g] = stream::lut_entry(static_cast<uint8_t>(std::min(255u, g * 3 / 2)), g > 100, 0);
+  }
+  std::array<std::vector<uint32_t>, 2> want;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    cv::Mat remap;
+    cv::Mat mask;
+    golden::lut_ref(frames[f], lut, remap, mask);
+    want[f] = golden::orientation_histogram_fixed(remap, {90, static_cast<int>(kThreshold)});
+  }
+
+  EXPECT_NE(r::features::kOrientation.get(b.read(r::features::kOffset)), 0u);
+  const uint32_t status0 = b.read(r::ori_status::kOffset);
+  EXPECT_EQ(r::ori_status::kNumBins.get(status0), stream::Orientation::kDefaultBins);
+  EXPECT_EQ(r::ori_status::kResultsValid.get(status0), 0u);
+  b.write(r::width::kOffset, kW);
+  b.write(r::height::kOffset, kH);
+  b.write_lut(lut);
+  b.write(r::ori_control::kOffset,
+          r::ori_control::kEnable.put(1) | r::ori_control::kThreshold.put(kThreshold));
+  b.write(r::control::kOffset, r::control::kEnable.mask());
+
+  const auto read_bins = [&b] {
+    std::vector<uint32_t> bins;
+    b.write(r::ori_index::kOffset, 0);
+    for (uint32_t k = 0; k < stream::Orientation::kDefaultBins; ++k) {
+      bins.push_back(b.read(r::ori_data::kOffset));
+    }
+    return bins;
+  };
+  for (const cv::Mat& f : frames) b.queue_frame(f, 0.05, rng);
+  while (b.model().pipeline().orientation().frames() < 1 && !b.sim().failed()) b.step();
+  EXPECT_TRUE(b.frame_streaming());
+  EXPECT_EQ(b.read(r::ori_frames::kOffset), 1u);
+  const uint32_t votes0 = b.read(r::ori_votes::kOffset);
+  EXPECT_GT(votes0, 0u);
+  EXPECT_LE(votes0, static_cast<uint32_t>((kW - 2) * (kH - 2)));
+  // Frame 0's histogram while frame 1 streams and votes.
+  const std::vector<uint32_t> got0 = read_bins();
+  EXPECT_TRUE(b.frame_streaming()) << "frame 1 ended during the readout";
+  EXPECT_EQ(b.read(r::ori_frames::kOffset), 1u) << "frame 1 published during the readout";
+  EXPECT_TRUE(got0 == want[0]) << "frame 0 histogram differs from the golden";
+  b.drain_video();
+  EXPECT_EQ(b.read(r::ori_frames::kOffset), 2u);
+  EXPECT_EQ(b.read(r::ori_skipped::kOffset), 0u);
+  EXPECT_EQ(r::ori_status::kResultsValid.get(b.read(r::ori_status::kOffset)), 1u);
+  EXPECT_TRUE(read_bins() == want[1]) << "frame 1 histogram differs from the golden";
+  // The peak is near the grating's angle (1-degree bins; the 3 x 3 Sobel's
+  // anisotropy on an 11-pixel period with noise moves it by a few degrees).
+  for (size_t f = 0; f < 2; ++f) {
+    const auto peak = std::max_element(want[f].begin(), want[f].end()) - want[f].begin();
+    EXPECT_LE(std::abs(static_cast<double>(peak) - angles[f]), 4.0) << "frame " << f;
+  }
+  // Past the bins: 0.
+  b.write(r::ori_index::kOffset, 200);
+  EXPECT_EQ(b.read(r::ori_data::kOffset), 0u);
+  EXPECT_EQ(b.read(r::ori_index::kOffset), 201u);
   EXPECT_FALSE(b.sim().failed());
   b.sim().report();
 }

@@ -26,6 +26,8 @@
 CEILNAV_VERILATOR_HEADERS_BEGIN
 #if CEILNAV_TOP_CONFIG_TAPE
 #include "Vceilnav_top_tape.h"
+#elif CEILNAV_TOP_CONFIG_HOMING
+#include "Vceilnav_top_homing.h"
 #else
 #include "Vceilnav_top.h"
 #endif
@@ -40,6 +42,9 @@ namespace ceilnav::testbench {
 #if CEILNAV_TOP_CONFIG_TAPE
 using VDeviceTop = Vceilnav_top_tape;
 inline constexpr const regs::Config& kTopConfig = regs::kConfigTape;
+#elif CEILNAV_TOP_CONFIG_HOMING
+using VDeviceTop = Vceilnav_top_homing;
+inline constexpr const regs::Config& kTopConfig = regs::kConfigHoming;
 #else
 using VDeviceTop = Vceilnav_top;
 inline constexpr const regs::Config& kTopConfig = regs::kConfigFull;
