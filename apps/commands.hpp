@@ -181,6 +181,9 @@ struct HomingOptions {
   bool capture = false;  // the capture zone study of --capture-site
   int capture_site = 1;
   uint64_t seed = 1;
+  // The orientation histograms from the homing device on this backend
+  // (fast | model | rtl; see drivers::DeviceOptions).
+  std::string backend = "fast";
   bool plot = true;
   bool quiet = false;
   bool require = false;  // exit 1 unless the goals are met

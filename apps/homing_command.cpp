@@ -121,6 +121,7 @@ int run_homing(const HomingOptions& o) {
   p.seed = o.seed;
   p.robot.seed = o.seed;
   p.render.noise_sigma_grey = o.noise_grey;
+  p.device = device_options(o.backend);
   sim::validate(p);
   if (o.capture_site < 1 || o.capture_site > static_cast<int>(world.sites.size())) {
     throw std::runtime_error(
@@ -202,6 +203,7 @@ int run_homing(const HomingOptions& o) {
   j["ceiling_height_m"] = world.ceiling.height_m;
   j["camera_height_m"] = world.camera.height_m;
   j["noise_grey"] = o.noise_grey;
+  j["backend"] = o.backend;
   j["frame_rate_hz"] = p.frame_rate_hz;
   j["homings"] = race.legs.size();
   j["homed"] = race.homed;

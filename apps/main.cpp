@@ -665,6 +665,12 @@ CLI::App* add_homing_command(CLI::App& app, HomingOptions& h) {
   cmd->add_option("--seed", h.seed, "Seed of the frame noise and the wheel slip")
       ->check(unsigned_integer())
       ->capture_default_str();
+  cmd->add_option("--backend", h.backend,
+                  "The homing device each frame streams through for its orientation histogram: "
+                  "fast (frame at a time), model (C++ cycle-level device through its registers) "
+                  "or rtl (Verilated RTL through its registers)")
+      ->check(CLI::IsMember({"fast", "model", "rtl"}))
+      ->capture_default_str();
   cmd->add_flag("!--no-plot", h.plot, "No race.png");
   cmd->add_flag("--quiet", h.quiet, "No progress bar, no summary line");
   cmd->add_flag("--require", h.require,

@@ -8,9 +8,14 @@
 
 namespace ceilnav::drivers {
 
-Device::Device(const DeviceOptions& options) : options_(options), pipeline_(options.fifo_depth) {
+Device::Device(const DeviceOptions& options)
+    : options_(options),
+      pipeline_(options.fifo_depth, options.device_config.has_class_moments,
+                options.device_config.has_corridor, stream::HoughShape{},
+                stream::EdgeDetector::kDefaultFifoDepth, options.device_config.has_orientation) {
   if (options_.backend == Backend::fast) return;
   SimBusOptions bus_opt;
+  bus_opt.device_config = options_.device_config;
   bus_opt.seed = options_.seed;
   bus_opt.run_tready_low_probability = options_.backpressure_probability;
   bus_opt.axi_timing.valid_delay_probability = options_.backpressure_probability > 0 ? 0.2 : 0.0;
@@ -53,6 +58,30 @@ stream::CorridorReadout Device::fast_corridor() const {
   return c;
 }
 
+void Device::set_orientation(const host::OrientationControl& ori) {
+  if (options_.backend == Backend::fast) {
+    if (!pipeline_.has_orientation()) {
+      throw std::runtime_error("device: the device has no orientation block");
+    }
+    pipeline_.set_orientation_config({ori.enable, ori.threshold});
+  } else {
+    driver_->configure_orientation(ori);
+  }
+  orientation_on_ = true;
+  ori_cfg_ = ori;
+}
+
+host::OrientationReadout Device::fast_orientation() const {
+  const stream::Orientation& o = pipeline_.orientation();
+  host::OrientationReadout r;
+  r.valid = o.results_valid();
+  r.frames = o.frames();
+  r.skipped = o.frames_skipped();
+  r.votes = o.frame_votes();
+  r.bins = o.results();
+  return r;
+}
+
 stream::FrameResults Device::process(const cv::Mat& grey, const stream::PipelineConfig& cfg,
                                      std::vector<stream::RunRecord>& runs, uint64_t& cycles) {
   if (grey.type() != CV_8UC1 || grey.cols != cfg.width || grey.rows != cfg.height) {
@@ -69,12 +98,14 @@ stream::FrameResults Device::process(const cv::Mat& grey, const stream::Pipeline
       if (edge_cfg_.enable && hough_cfg_.enable) ++fast_hough_frames_;
       corridor_ = fast_corridor();
     }
+    if (orientation_on_) orientation_ = fast_orientation();
     return res;
   }
   // Through the registers: configure between frames, stream the frame in,
   // wait for the interrupt, read results and runs.
   driver_->configure(cfg);
   if (corridor_on_) driver_->configure_corridor(edge_cfg_, hough_cfg_);
+  if (orientation_on_) driver_->configure_orientation(ori_cfg_);
   const uint64_t start = bus_->cycles();
   FrameFeed feed;
   feed.gap_probability = options_.gap_probability;
@@ -89,6 +120,13 @@ stream::FrameResults Device::process(const cv::Mat& grey, const stream::Pipeline
     corridor_ = driver_->read_corridor();
     if (!corridor_.consistent) {
       throw std::runtime_error("device: the hough block published a frame during the readout");
+    }
+  }
+  if (orientation_on_) {
+    orientation_ = driver_->read_orientation();
+    if (!orientation_.consistent) {
+      throw std::runtime_error(
+          "device: the orientation block published a frame during the readout");
     }
   }
   cycles = bus_->cycles() - start;

@@ -11,6 +11,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "ceilnav/regs.hpp"
 #include "common/corridor_results.hpp"
 #include "common/edge_record.hpp"
 #include "common/hough_params.hpp"
@@ -39,6 +40,9 @@ struct DeviceOptions {
   double backpressure_probability = 0.0;
   uint64_t seed = 1;
   uint32_t fifo_depth = 1024;
+  // The device configuration (the RTL top's Has* parameters, FEATURES): which
+  // optional blocks it has (regs::kConfigs: tape, corridor, full, homing).
+  regs::Config device_config = regs::kConfigFull;
   // Creates the Bus for Backend::rtl (and, if set, for Backend::model).
   BusFactory bus_factory;
 };
@@ -69,6 +73,17 @@ class Device : public host::FrameProcessor {
   // set_corridor() or while no frame has been published).
   const stream::CorridorReadout& corridor() const { return corridor_; }
 
+  // The orientation block (seed 004's FindOrientation histogram) for the
+  // following frames: after this, process() also fetches the histogram it
+  // publishes for each frame (orientation()). The fast backend runs the
+  // block's fast frame path; the bus backends program ORI_CONTROL and read
+  // ORI_INDEX / ORI_DATA (host::Driver::read_orientation). Throws
+  // std::runtime_error on a device without the block (device_config).
+  void set_orientation(const host::OrientationControl& ori);
+  // The last processed frame's orientation readout (valid = false before
+  // set_orientation() or while no frame has been published).
+  const host::OrientationReadout& orientation() const { return orientation_; }
+
  private:
   DeviceOptions options_;
   stream::Pipeline pipeline_;    // Backend::fast
@@ -80,6 +95,10 @@ class Device : public host::FrameProcessor {
   stream::CorridorReadout corridor_;
   uint32_t fast_hough_frames_ = 0;  // Backend::fast: HOUGH_FRAME_COUNT
   stream::CorridorReadout fast_corridor() const;
+  bool orientation_on_ = false;
+  host::OrientationControl ori_cfg_{};
+  host::OrientationReadout orientation_;
+  host::OrientationReadout fast_orientation() const;
 };
 
 // The device of `options` (see Device) behind the host's interface.

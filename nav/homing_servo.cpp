@@ -42,6 +42,9 @@ void validate(const HomingServoParams& p) {
            std::isfinite(p.fine_turn_rad) && p.fine_turn_rad >= 0.0,
        "fine band", "must be finite and >= 0");
   need(p.fine_smoothing > 0.0 && p.fine_smoothing <= 1.0, "fine_smoothing", "must be in (0, 1]");
+  need(std::isfinite(p.turn_resume_position_m) &&
+           p.turn_resume_position_m >= p.hysteresis * p.position_tolerance_m,
+       "turn_resume_position_m", "must be >= hysteresis x position_tolerance_m");
   need(std::isfinite(p.max_speed_m_s) && p.max_speed_m_s > 0.0, "max_speed_m_s", "must be > 0");
   need(std::isfinite(p.max_yaw_rate_rad_s) && p.max_yaw_rate_rad_s > 0.0, "max_yaw_rate_rad_s",
        "must be > 0");
@@ -126,8 +129,9 @@ HomingCommand HomingServo::update(const HomingMeasurement& m) {
   const double g = cmd.error.turn_rad;
 
   // Phase changes: a step is done at its tolerance and resumed above
-  // hysteresis x it (so a measurement's noise does not toggle them).
-  const double resume_p = p.hysteresis * p.position_tolerance_m;
+  // hysteresis x it (so a measurement's noise does not toggle them); step i
+  // after the turn in place began only above turn_resume_position_m.
+  const double resume_p = p.turn_resume_position_m;
   const double resume_h = p.hysteresis * p.heading_tolerance_rad;
   switch (phase_) {
     case HomingPhase::position:

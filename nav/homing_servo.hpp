@@ -56,6 +56,15 @@ struct HomingServoParams {
   double position_tolerance_m = 0.001;
   double heading_tolerance_rad = 0.0015;
   double hysteresis = 2.0;
+  // Once step i is done the robot only turns in place, which does not move
+  // its wheel-axis midpoint: a position error that grows while it turns is
+  // the measurement's (a match pulled a fraction of a pixel by a changed
+  // lamp at some turns, the look offset's error), up to slip. Step ii (and
+  // done) resume step i only above turn_resume_position_m, not at
+  // hysteresis x position_tolerance_m: a bias of 3 mm that came and went
+  // with the turn otherwise sent the robot back and forth between the steps
+  // until its time ran out.
+  double turn_resume_position_m = 0.005;
   // Near the end the errors are a few measurement noises: inside the fine
   // band (position below fine_position_m and turn below fine_turn_rad) the
   // servo decides its steps' ends on an exponential average of the measured

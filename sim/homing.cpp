@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 
+#include "ceilnav/regs.hpp"
+#include "common/pipeline_config.hpp"
+#include "drivers/device.hpp"
 #include "golden/orientation_ref.hpp"
 #include "host/camera_model.hpp"
 #include "host/homing/homing_measurement.hpp"
@@ -31,8 +35,21 @@ nav::HomingError true_error(const nav::Pose2& robot, const gc::SitePose& site) {
 class FrameSource {
  public:
   FrameSource(const gc::CeilingFile& w, const host::CameraConfig& c, const gc::RenderParams& r,
-              uint64_t seed)
-      : world(w), camera(c), render(r), next_seed(seed) {}
+              uint64_t seed, const std::optional<drivers::DeviceOptions>& device)
+      : world(w), camera(c), render(r), next_seed(seed) {
+    if (!device) return;
+    // The homing device: the orientation block on the LUT's remap, an
+    // identity LUT (the block sees the camera's grey levels).
+    drivers::DeviceOptions o = *device;
+    o.device_config = regs::kConfigHoming;
+    device_ = std::make_unique<drivers::Device>(o);
+    device_->set_orientation({true, kThreshold});
+    config_.width = static_cast<uint16_t>(camera.image_width);
+    config_.height = static_cast<uint16_t>(camera.image_height);
+    for (unsigned g = 0; g < 256; ++g) {
+      config_.lut[g] = stream::lut_entry(static_cast<uint8_t>(g), false, 0);
+    }
+  }
   const gc::CeilingFile& world;
   const host::CameraConfig& camera;
   gc::RenderParams render;
@@ -45,11 +62,30 @@ class FrameSource {
     grey = gc::render_frame(camera, world.ceiling, lighting,
                             gc::camera_pose(world.camera, robot.x_m, robot.y_m, robot.yaw_rad),
                             render);
-    // The orientation block's histogram (its bit-true golden: what the
-    // device reads out, docs/blocks/orientation.md).
-    const std::vector<uint32_t> bins = golden::orientation_histogram_fixed(grey);
-    histogram.assign(bins.begin(), bins.end());
+    if (!device_) {
+      // The orientation block's histogram by its bit-true golden (what the
+      // device reads out, docs/blocks/orientation.md).
+      const std::vector<uint32_t> bins =
+          golden::orientation_histogram_fixed(grey, {90, kThreshold});
+      histogram.assign(bins.begin(), bins.end());
+      return;
+    }
+    // The frame through the device; the histogram read from its registers.
+    std::vector<stream::RunRecord> runs;
+    uint64_t cycles = 0;
+    device_->process(grey, config_, runs, cycles);
+    const host::OrientationReadout& o = device_->orientation();
+    if (!o.valid || o.frames != ++frames_) {
+      throw std::runtime_error("homing: the device published no orientation histogram");
+    }
+    histogram.assign(o.bins.begin(), o.bins.end());
   }
+
+ private:
+  static constexpr uint16_t kThreshold = 16;  // ORI_CONTROL.THRESHOLD
+  std::unique_ptr<drivers::Device> device_;
+  stream::PipelineConfig config_;
+  uint32_t frames_ = 0;  // published by the device
 };
 
 uint64_t mix(uint64_t a, uint64_t b) {
@@ -71,6 +107,10 @@ void validate(const HomingSimParams& p) {
   require(std::isfinite(p.track_radius_px) && p.track_radius_px > 0.0,
           "track_radius_px must be > 0");
   require(p.max_lost_frames >= 1, "max_lost_frames must be >= 1");
+  require(std::isfinite(p.search_yaw_rate_rad_s) && p.search_yaw_rate_rad_s > 0.0 &&
+              p.search_yaw_rate_rad_s <= p.robot.max_yaw_rate_rad_s,
+          "search_yaw_rate_rad_s must be in (0, robot.max_yaw_rate_rad_s]");
+  require(std::isfinite(p.max_bridge_m) && p.max_bridge_m >= 0.0, "max_bridge_m must be >= 0");
   require(std::isfinite(p.max_time_s) && p.max_time_s > 0.0, "max_time_s must be > 0");
   require(std::isfinite(p.consistency_position_m) && p.consistency_position_m > 0.0 &&
               std::isfinite(p.consistency_turn_rad) && p.consistency_turn_rad > 0.0,
@@ -99,7 +139,7 @@ hh::SiteMap record_sites(const gc::CeilingFile& world, const host::CameraConfig&
                          const HomingSimParams& p) {
   validate(p);
   gc::validate(world);
-  FrameSource src{world, camera, p.render, mix(p.seed, 0x5173)};
+  FrameSource src{world, camera, p.render, mix(p.seed, 0x5173), p.device};
   const double ceiling_distance = world.ceiling.height_m - world.camera.height_m;
   const host::CameraModel model(camera);
   hh::SiteMap map;
@@ -186,11 +226,6 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
   acquire_opt.search_radius_px = p.acquire_radius_m / ceiling_distance * camera.fx();
   hh::TrackerOptions track_opt = p.tracker;
   track_opt.search_radius_px = p.track_radius_px;
-  // The refinement window covers the whole search radius's neighbourhood at
-  // full resolution: a grille's slats alias at the quarter-resolution level
-  // and can put its peak a slat away (a local maximum of 0.90 instead of
-  // the site's 0.999 on the 2.6 m study ceiling).
-  track_opt.refine_px = std::max(p.tracker.refine_px, 14);
   const hh::Site& recorded = map.sites[static_cast<std::size_t>(site)].site;
   hh::TrackerOptions reacquire_opt = track_opt;
   reacquire_opt.search_radius_px = 2.5 * p.track_radius_px;
@@ -204,7 +239,8 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
 
   FrameSource src{
       world, camera, p.render,
-      mix(p.seed, mix(static_cast<uint64_t>(site), static_cast<uint64_t>(robot.time_s() * 1e3)))};
+      mix(p.seed, mix(static_cast<uint64_t>(site), static_cast<uint64_t>(robot.time_s() * 1e3))),
+      p.device};
   const double dt = 1.0 / p.odometry_rate_hz, period = 1.0 / p.frame_rate_hz;
   const double t0 = robot.time_s();
   double next_frame = t0;
@@ -216,6 +252,7 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
   nav::HomingError last_error;
   nav::Pose2 moved;  // the odometry's motion since the last consistent match
   int lost = 0, settled = 0;
+  double searched_rad = 0.0;  // the search turn's odometry (not wrapped)
   cv::Point2d last_px;
   double last_gamma = 0.0;
 
@@ -245,8 +282,9 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
           r = reacquirer.track(src.grey, src.histogram, last_px,
                                last_gamma - moved.yaw_rad * 180.0 / std::numbers::pi);
         } else if (heading_prior_rad) {
+          // The prior less the search turn so far.
           r = acquirer.track(src.grey, src.histogram, std::nullopt,
-                             *heading_prior_rad * 180.0 / std::numbers::pi);
+                             (*heading_prior_rad - moved.yaw_rad) * 180.0 / std::numbers::pi);
         }
         if (r.status != hh::TrackStatus::ok) r = acquirer.track(src.grey, src.histogram);
       }
@@ -286,8 +324,14 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
           ++run.inconsistent_frames;
         }
       }
-      if (f.measurement.status == nav::MeasurementStatus::ok || !have_last_error) {
+      bool out_of_view = false;
+      if (f.measurement.status == nav::MeasurementStatus::ok) {
         f.command = servo.update(f.measurement);
+      } else if (!have_last_error) {
+        // Never matched: the search turn (the servo stays as it was).
+        f.command.phase = nav::HomingPhase::position;
+        f.command.v_m_s = 0.0;
+        f.command.omega_rad_s = p.search_yaw_rate_rad_s;
       } else {
         // No match this frame (the site at the frame's edge while the robot
         // turns toward it, or a match dropped): the servo goes on with the
@@ -310,6 +354,12 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
         const Eigen::Vector2d px = model.distort_to_pixel(
             {-predicted.left_m / ceiling_distance, predicted.forward_m / ceiling_distance});
         last_px = {px.x(), px.y()};
+        // Out of view: the turned template's half diagonal does not fit
+        // between the predicted site point and the frame's edge.
+        const double half = 0.5 * std::sqrt(2.0) * recorded.options.template_px;
+        out_of_view = !(px.x() >= half && px.x() <= camera.image_width - 1 - half &&
+                        px.y() >= half && px.y() <= camera.image_height - 1 - half) &&
+                      std::hypot(moved.x_m, moved.y_m) <= p.max_bridge_m;
       }
       ++run.frames;
       if (!f.consistent) {
@@ -330,9 +380,13 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       } else {
         // No match: the next frame searches again (about the odometry's
         // prediction when there was a good match).
-        if (++lost >= p.max_lost_frames) {
-          run.outcome =
-              have_last_error || acquired ? HomingOutcome::lost : HomingOutcome::not_found;
+        if (!have_last_error) {
+          if (++lost >= p.max_lost_frames && std::abs(searched_rad) >= 2.0 * std::numbers::pi) {
+            run.outcome = HomingOutcome::not_found;
+            finished = true;
+          }
+        } else if (!out_of_view && ++lost >= p.max_lost_frames) {
+          run.outcome = HomingOutcome::lost;
           finished = true;
         }
         acquired = false;
@@ -354,8 +408,10 @@ HomingRun home(Robot& robot, const hh::SiteMap& map, int site, const gc::Ceiling
       applied = pending.front().second;
       pending.pop_front();
     }
-    moved = nav::advance(moved, nav::motion_of(robot.step(dt, applied.v_m_s, applied.omega_rad_s),
-                                               p.robot.wheel_base_m));
+    const nav::Motion step =
+        nav::motion_of(robot.step(dt, applied.v_m_s, applied.omega_rad_s), p.robot.wheel_base_m);
+    moved = nav::advance(moved, step);
+    if (!have_last_error) searched_rad += step.dyaw_rad;
     travelled += std::hypot(robot.pose().x_m - previous.x_m, robot.pose().y_m - previous.y_m);
     previous = robot.pose();
   }

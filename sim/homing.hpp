@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/camera_config.hpp"
+#include "drivers/device.hpp"
 #include "golden/ceiling/ceiling_file.hpp"
 #include "golden/ceiling/render.hpp"
 #include "host/homing/site_map.hpp"
@@ -63,11 +64,19 @@ struct HomingSimParams {
   // mode (three templates about the last gamma).
   double acquire_radius_m = 1.5;
   double track_radius_px = 40.0;
-  // A homing fails after max_lost_frames consecutive frames without an `ok`
-  // match once acquired (or from the start: the site is not in view), or
-  // after max_time_s. It succeeds when the servo is done on settle_frames
-  // consecutive frames with the robot at rest.
+  // Before the first match the robot turns in place at search_yaw_rate_rad_s
+  // (the frame's long side sweeps round it, and the camera's look offset
+  // comes closer to a site behind): the homing is not_found when a whole
+  // turn brought no match. Once acquired it is lost after max_lost_frames
+  // consecutive frames without an `ok` match in which the odometry's
+  // prediction puts the site well inside the frame (frames that put it
+  // out of view, while the robot turns toward it, do not count, for up to
+  // max_bridge_m of motion since the last match), or after max_time_s. It
+  // succeeds when the servo is done on settle_frames consecutive frames
+  // with the robot at rest.
   int max_lost_frames = 10;
+  double search_yaw_rate_rad_s = 0.5;
+  double max_bridge_m = 0.6;
   // A match must agree with the odometry: the robot's error toward the site
   // predicted from the last match and the wheel odometry since, within
   // consistency_position_m + 10 % of the motion and consistency_turn_rad +
@@ -83,6 +92,12 @@ struct HomingSimParams {
   double path_speed_m_s = 0.4;
   double path_yaw_rate_rad_s = 0.8;
   uint64_t seed = 1;  // frame noise (the slip's: robot.seed)
+  // The orientation histograms: nullopt, golden::orientation_histogram_fixed
+  // of each frame (bit-equal to the device's); else each frame streams
+  // through the homing device on this backend (drivers::Device, its
+  // device_config set to regs::kConfigHoming; identity LUT, ORI_CONTROL
+  // threshold 16) and the histogram is read from its registers.
+  std::optional<drivers::DeviceOptions> device;
 };
 // Throws std::invalid_argument naming the first bad field.
 void validate(const HomingSimParams& p);
@@ -100,8 +115,8 @@ host::homing::SiteMap record_sites(const golden::ceiling::CeilingFile& world,
 
 enum class HomingOutcome {
   homed,      // the servo finished
-  not_found,  // the site never matched (outside the capture zone)
-  lost,       // matched, then lost for max_lost_frames
+  not_found,  // the site never matched in a whole turn (outside the capture zone)
+  lost,       // matched, then lost for max_lost_frames (in view)
   timeout,
   unusable,  // the map marks the site unusable (SiteMap's MapSite::unusable)
 };

@@ -55,6 +55,8 @@ class LineWindow {
   // std::logic_error (naming `block`) if a taken pixel's position differs
   // from the counters.
   Pixel clock(const PixelBeat& pix, uint8_t remap, bool enable, const char* block);
+  // A taken frame is open (its SOF taken, its EOF or abort not yet).
+  bool frame_open() const { return frame_open_q_; }
 
  private:
   // One column of the window: rows y-2, y-1, y.

@@ -1,5 +1,6 @@
 #include "stream/orientation.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace ceilnav::stream {
@@ -134,6 +135,44 @@ void Orientation::clock(const LutBeat& in, bool rd_en, uint16_t rd_bin) {
   w_q_ = pipe_[kPipeStages - 1];
   for (size_t k = kPipeStages - 1; k > 0; --k) pipe_[k] = pipe_[k - 1];
   pipe_[0] = e;
+}
+
+bool Orientation::idle() const {
+  const auto busy = [](const Entry& e) { return e.vote || e.sof || e.eof || e.abort; };
+  return !window_.frame_open() && !busy(w_q_) && std::none_of(pipe_.begin(), pipe_.end(), busy);
+}
+
+void Orientation::publish_frame(const OrientationConfig& cfg, const uint8_t* remap, uint32_t width,
+                                uint32_t height) {
+  if (width < 1 || height < 1) throw std::invalid_argument("Orientation: empty frame");
+  if (!idle()) {
+    throw std::logic_error("Orientation::publish_frame: the clocked block is not idle");
+  }
+  done_q_ = false;
+  rd_data_q_ = 0;
+  if (!cfg.enable) return;
+  cfg_q_ = cfg;
+  // The sweep of the blanking has cleared the accumulating bank.
+  std::vector<uint32_t>& acc = bank_[acc_q_];
+  std::fill(acc.begin(), acc.end(), 0u);
+  uint32_t votes = 0;
+  for (uint32_t y = 2; y < height; ++y) {
+    for (uint32_t x = 2; x < width; ++x) {
+      const fo::Vote v = window_vote(frame_window(remap, width, x, y), x, y, cfg.threshold, bins_);
+      if (!v.valid) continue;
+      acc[v.bin] = fo::add_saturating(acc[v.bin], v.weight);
+      ++votes;
+    }
+  }
+  acc_q_ = 1 - acc_q_;
+  res_valid_q_ = true;
+  stat_votes_q_ = votes;
+  votes_q_ = votes;
+  dropped_q_ = false;
+  frames_q_ = saturating_inc(frames_q_);
+  std::fill(bank_[acc_q_].begin(), bank_[acc_q_].end(), 0u);
+  sweep_busy_q_ = false;
+  sweep_ptr_q_ = 0;
 }
 
 std::vector<uint32_t> Orientation::scan_frame(const OrientationConfig& cfg, uint32_t bins,

@@ -70,11 +70,23 @@ class Orientation {
   uint32_t read_bin(uint32_t bin) const;
   std::vector<uint32_t> results() const;
   uint32_t bins() const { return bins_; }
+  // No frame open and no vote or frame event in the pipeline (the sweep may
+  // still run).
+  bool idle() const;
 
   // Fast path: the histogram of a whole frame (row-major remap bytes) as the
   // clocked path publishes it.
   static std::vector<uint32_t> scan_frame(const OrientationConfig& cfg, uint32_t bins,
                                           const uint8_t* remap, uint32_t width, uint32_t height);
+  // Fast path of the block: a whole frame (row-major remap bytes, at least
+  // one pixel) published as the clocked path publishes it when the frame
+  // arrives with the block idle and the sweep done (blanking >= bins()
+  // cycles): the histogram and the frame's votes in the result bank,
+  // results_valid(), frames() + 1, the accumulating bank clear. `cfg` is the
+  // configuration latched at the frame's SOF; a disabled block ignores the
+  // frame. std::logic_error if a frame is open or votes are in flight.
+  void publish_frame(const OrientationConfig& cfg, const uint8_t* remap, uint32_t width,
+                     uint32_t height);
 
  private:
   // One pipeline entry: a pixel's vote and the frame events it carries.

@@ -172,11 +172,9 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
     throw std::invalid_argument("Pipeline::process_frame: image size differs from the config");
   }
   if (fc_.state() == FrameCheck::State::kInFrame || fc_.m_pix().valid || lut_.m_lut().pix.valid ||
-      mom_.combine_busy() || hist_accept_q_ || runs_.fifo_occupancy() != 0 || corridor_pending()) {
+      mom_.combine_busy() || hist_accept_q_ || runs_.fifo_occupancy() != 0 || corridor_pending() ||
+      (has_orientation_ && !ori_.idle())) {
     throw std::logic_error("Pipeline::process_frame: the clocked pipeline is not idle");
-  }
-  if (has_orientation_ && ori_shadow_.enable) {
-    throw std::logic_error("Pipeline::process_frame: the orientation block is enabled");
   }
   // The SOF: shadow -> active.
   const bool swapped = lut_.commit_pending();
@@ -190,7 +188,8 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
 
   const auto w = static_cast<uint32_t>(width);
   const bool edges_on = has_corridor_ && cfg_lut_.edge.enable;
-  if (edges_on) remap_frame_.resize(size_t{w} * static_cast<size_t>(height));
+  const bool ori_on = has_orientation_ && cfg_lut_.ori.enable;
+  if (edges_on || ori_on) remap_frame_.resize(size_t{w} * static_cast<size_t>(height));
   remap_row_.resize(w);
   mask_row_.resize(w);
   class_row_.resize(w);
@@ -209,7 +208,7 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
       mask_row_[x] = mask_table_[row[x]];
       class_row_[x] = class_table_[row[x]];
     }
-    if (edges_on) {
+    if (edges_on || ori_on) {
       std::copy(remap_row_.begin(), remap_row_.end(),
                 remap_frame_.begin() + static_cast<ptrdiff_t>(size_t{w} * static_cast<size_t>(y)));
     }
@@ -250,6 +249,10 @@ FrameResults Pipeline::process_frame(const uint8_t* grey, int width, int height,
     for (const EdgeRecord& e : edge_points_) edge_words_.push_back(pack_edge_beat(e));
     hough_.process_frame(edge_words_, pack_edge_trailer(edge_points_.size(), 0, 0), hough_cfg_);
   }
+
+  // The orientation block votes the remap stream beside the edge block.
+  if (ori_on)
+    ori_.publish_frame(cfg_lut_.ori, remap_frame_.data(), w, static_cast<uint32_t>(height));
 
   fc_.process_frame(shadow_.width, shadow_.height);
   hist_.publish_frame(bins);

@@ -150,7 +150,9 @@ class Pipeline {
   // if the edge FIFO never fills (edge() keeps its state: EDGE_COUNT /
   // EDGE_DROPPED of the frame are the trailer's, in hough().counters()).
   // With the orientation block enabled for the frame (ORI_CONTROL.ENABLE),
-  // throws std::logic_error: the fast path has no model of its banks.
+  // Orientation::publish_frame votes the remap: orientation() then holds the
+  // frame's histogram and counters as the clocked path publishes them when
+  // the blanking before the frame outlasts the block's sweep (bins cycles).
   FrameResults process_frame(const uint8_t* grey, int width, int height, size_t stride_bytes,
                              std::vector<RunRecord>* runs_out);
 

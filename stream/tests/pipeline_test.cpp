@@ -12,6 +12,7 @@
 #include "common/hough_params.hpp"
 #include "golden/edge_ref.hpp"
 #include "golden/hough_ref.hpp"
+#include "golden/orientation_ref.hpp"
 #include "golden/pipeline_ref.hpp"
 #include "golden/renderer.hpp"
 #include "golden/thresh_lut_ref.hpp"
@@ -606,6 +607,73 @@ TEST(Pipeline, ClockedEqualsFastEqualsGoldenOnRenderedFrames) {
     const std::string what = "rendered frame " + std::to_string(i);
     EXPECT_GT(golden::pipeline_ref(img, cfg).runs.size(), 50u) << what;  // the tapes are seen
     check_one_frame(img, cfg, rng, 0.15, 0.5, what.c_str());
+  }
+}
+
+}  // namespace
+}  // namespace ceilnav::stream
+
+namespace ceilnav::stream {
+namespace {
+
+// The orientation block (HasOrientation = 1, the homing device): the fast
+// path's published histogram and counters equal the clocked pipeline's (the
+// frames streamed with tvalid gaps and enough blanking for the block's
+// sweep) and golden::orientation_histogram_fixed of the remap, at 90 and 7
+// bins; a frame with ORI_CONTROL.ENABLE = 0 leaves both as they were.
+TEST(Pipeline, OrientationFastPathEqualsClockedEqualsGolden) {
+  std::mt19937 rng(50);
+  const std::vector<std::pair<int, int>> sizes = {{3, 3}, {37, 23}, {160, 120}, {64, 9}, {96, 72}};
+  for (const uint32_t bins : {90u, 7u}) {
+    Pipeline clocked(1024, false, false, HoughShape{}, EdgeDetector::kDefaultFifoDepth, true, bins);
+    Pipeline fast(1024, false, false, HoughShape{}, EdgeDetector::kDefaultFifoDepth, true, bins);
+    ASSERT_TRUE(fast.has_orientation());
+    uint32_t published = 0;
+    for (size_t f = 0; f < sizes.size(); ++f) {
+      const auto [w, h] = sizes[f];
+      const cv::Mat img = f % 2 == 0 ? test::blob_image(rng, w, h) : test::random_image(rng, w, h);
+      const PipelineConfig cfg = random_config(rng, w, h);
+      const OrientationConfig ori{f != 3, static_cast<uint16_t>(f == 2 ? 0 : 8 + 40 * f)};
+      const std::string what = "bins " + std::to_string(bins) + " frame " + std::to_string(f);
+      for (Pipeline* p : {&clocked, &fast}) {
+        p->set_config(cfg);
+        p->set_orientation_config(ori);
+      }
+      const std::vector<uint32_t> before = clocked.orientation().results();
+      // Blanking before the frame (the sweep after the reset or the last
+      // publication ends) and after it (the pipeline drains).
+      std::vector<VideoBeat> beats;
+      test::append_gaps(beats, 300);
+      test::append_frame(beats, img, rng, 0.2);
+      test::append_gaps(beats, 100);
+      for (const VideoBeat& b : beats) clocked.clock(b, true);
+      fast.process_frame(img.ptr<uint8_t>(0), w, h, img.step[0], nullptr);
+      const Orientation& c = clocked.orientation();
+      const Orientation& q = fast.orientation();
+      if (ori.enable) ++published;
+      EXPECT_EQ(c.frames(), published) << what;
+      EXPECT_EQ(q.frames(), c.frames()) << what;
+      EXPECT_EQ(q.frames_skipped(), 0u) << what;
+      EXPECT_EQ(c.frames_skipped(), 0u) << what;
+      EXPECT_EQ(q.frame_votes(), c.frame_votes()) << what;
+      EXPECT_EQ(q.results_valid(), c.results_valid()) << what;
+      EXPECT_FALSE(q.clearing()) << what;
+      EXPECT_EQ(q.results(), c.results()) << what;
+      if (!ori.enable) {
+        EXPECT_EQ(c.results(), before) << what;
+        continue;
+      }
+      cv::Mat remap;
+      cv::Mat mask;
+      golden::lut_ref(img, cfg.lut, remap, mask);
+      EXPECT_EQ(q.results(),
+                golden::orientation_histogram_fixed(remap, {static_cast<int>(bins), ori.threshold}))
+          << what;
+      // Every other result of the frame is the clocked path's too.
+      EXPECT_EQ(fast.results().histogram, clocked.results().histogram) << what;
+      EXPECT_EQ(fast.results().moments, clocked.results().moments) << what;
+    }
+    EXPECT_GT(clocked.orientation().frame_votes(), 100u);
   }
 }
 
