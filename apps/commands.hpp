@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/camera_config.hpp"
 #include "drivers/device.hpp"
@@ -180,6 +181,7 @@ struct HomingOptions {
   double noise_grey = 2.0;
   bool capture = false;  // the capture zone study of --capture-site
   int capture_site = 1;
+  std::vector<double> capture_radii_m{0.5, 0.75, 1.0, 1.15, 1.3, 1.5};  // ascending
   uint64_t seed = 1;
   // The orientation histograms from the homing device on this backend
   // (fast | model | rtl; see drivers::DeviceOptions).

@@ -8,7 +8,9 @@
 // race on odometry alone (odometry_race.csv), ceiling.yaml (the world
 // of the run), summary.json (with the goals), race.png; with --capture the capture zone of one site
 // (capture_zone.csv, capture.png). docs/homing.md.
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <stdexcept>
 
@@ -123,6 +125,11 @@ int run_homing(const HomingOptions& o) {
   p.render.noise_sigma_grey = o.noise_grey;
   p.device = device_options(o.backend);
   sim::validate(p);
+  if (o.capture_radii_m.empty() ||
+      !std::is_sorted(o.capture_radii_m.begin(), o.capture_radii_m.end(), std::less_equal<>()) ||
+      !(o.capture_radii_m.front() > 0.0) || !std::isfinite(o.capture_radii_m.back())) {
+    throw std::runtime_error("homing: --capture-radii must be positive and strictly ascending");
+  }
   if (o.capture_site < 1 || o.capture_site > static_cast<int>(world.sites.size())) {
     throw std::runtime_error(
         fmt::format("homing: --capture-site must be 1 .. {}", world.sites.size()));
@@ -242,6 +249,7 @@ int run_homing(const HomingOptions& o) {
   std::vector<double> cap_r, cap_frac;
   if (o.capture) {
     sim::CaptureParams cp;
+    cp.radii_m = o.capture_radii_m;
     const int site_index = o.capture_site - 1;
     Progress cbar(
         "capture zone",

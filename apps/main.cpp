@@ -662,6 +662,11 @@ CLI::App* add_homing_command(CLI::App& app, HomingOptions& h) {
   cmd->add_option("--capture-site", h.capture_site, "Site of the capture study (1 = first)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  cmd->add_option("--capture-radii", h.capture_radii_m,
+                  "Start distances of the capture study, metres, strictly ascending")
+      ->delimiter(',')
+      ->check(finite_in(0.01, 20.0))
+      ->capture_default_str();
   cmd->add_option("--seed", h.seed, "Seed of the frame noise and the wheel slip")
       ->check(unsigned_integer())
       ->capture_default_str();

@@ -779,6 +779,8 @@ expect_error "homing bad ceiling" "bogus_key" "$work/homing_bad1" -- homing --ou
 printf 'format: ceilnav_ceiling\nversion: 1\nheight_m: 3\nsites:\n  - {name: a, x_m: 0, y_m: 0, yaw_deg: 0}\n' >"$work/one_site.yaml"
 expect_error "homing one site" "two or more sites" "$work/homing_bad2" -- homing --out "$work/homing_bad2" --ceiling "$work/one_site.yaml"
 expect_error "homing capture site" "capture-site" "$work/homing_bad3" -- homing --out "$work/homing_bad3" --capture --capture-site 9
+expect_error "homing capture radii" "capture-radii" "$work/homing_bad6" -- homing --out "$work/homing_bad6" --capture --capture-radii 1,0.5
+expect_error "homing backend" "backend" "$work/homing_bad7" -- homing --out "$work/homing_bad7" --backend gpu
 printf '{"format": "ceilnav_site_map", "version": 1, "sites": [], "paths": [{"from": 0}]}' >"$work/bad_map.json"
 expect_error "homing bad map" "map" "$work/homing_bad4" -- homing --out "$work/homing_bad4" --map "$work/bad_map.json"
 expect_error "homing missing ceiling" "ceiling" "$work/homing_bad5" -- homing --out "$work/homing_bad5" --ceiling "$work/nope.yaml"
